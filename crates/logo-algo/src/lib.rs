@@ -1,0 +1,1 @@
+//! logo-algo (work in progress).

@@ -1,0 +1,1 @@
+//! logo-data (work in progress).

@@ -1,0 +1,120 @@
+//! The environment interface shared by every env, wrapper and the vectorised env.
+
+use std::path::PathBuf;
+
+/// What an environment is: its id, dimensions and episode limit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnvSpec {
+    /// Registry id, e.g. `Hopper-v4` or `SparseHopper-v4`.
+    pub id: String,
+    pub obs_dim: usize,
+    pub act_dim: usize,
+    /// Actuator control range; MuJoCo clamps actions to it, the env does not.
+    pub action_low: Vec<f64>,
+    pub action_high: Vec<f64>,
+    /// Steps after which an episode is truncated (Gymnasium's `TimeLimit`).
+    pub max_episode_steps: usize,
+    /// MuJoCo steps per env step.
+    pub frame_skip: usize,
+    /// Seconds of simulated time per env step (timestep x frame skip).
+    pub dt: f64,
+}
+
+/// Per-step facts beside the reward, so evaluation can report both reward streams.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepInfo {
+    /// The dense (Gymnasium) reward of this step, whatever reward the env pays.
+    pub dense_reward: f64,
+    /// `qpos[0]` after the step: the forward position for the locomotion tasks.
+    pub x_position: f64,
+}
+
+/// The result of one step. The observation goes into the caller's buffer.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Step {
+    pub reward: f64,
+    /// The MDP ended (fell over, pendulum dropped): do not bootstrap.
+    pub terminated: bool,
+    /// The time limit cut the episode: bootstrap from the final observation.
+    pub truncated: bool,
+    pub info: StepInfo,
+}
+
+impl Step {
+    pub fn done(&self) -> bool {
+        self.terminated || self.truncated
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum EnvError {
+    #[error("action has {got} values, {env} expects {expected}")]
+    ActionLength {
+        env: String,
+        expected: usize,
+        got: usize,
+    },
+    #[error("action[{index}] = {value} is not finite ({env})")]
+    NonFiniteAction {
+        env: String,
+        index: usize,
+        value: f64,
+    },
+    #[error("{what} has {got} values, {env} expects {expected}")]
+    StateLength {
+        env: String,
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    },
+    #[error("{env}: step called {why}; call reset first")]
+    NeedsReset { env: String, why: &'static str },
+    #[error("unknown environment id {0:?}; known ids: {1}")]
+    UnknownId(String, String),
+    #[error("MJCF model {} not found: run ./scripts/setup.sh", .0.display())]
+    ModelMissing(PathBuf),
+    #[error("MuJoCo could not load {}: {reason}", path.display())]
+    ModelLoad { path: PathBuf, reason: String },
+    #[error("invalid option: {0}")]
+    InvalidOption(String),
+}
+
+/// A reinforcement-learning environment with `f64` observations and actions.
+///
+/// Observations are written into caller-owned buffers of length `spec().obs_dim`, so the
+/// vectorised env and the rollout code step without allocating.
+pub trait Env: Send {
+    fn spec(&self) -> &EnvSpec;
+
+    /// Starts an episode. `Some(seed)` reseeds the reset-noise generator (as Gymnasium's
+    /// `reset(seed=...)`); `None` continues its stream.
+    fn reset(&mut self, seed: Option<u64>, obs: &mut [f64]);
+
+    /// Applies `action` (length `act_dim`, finite) and advances one env step.
+    fn step(&mut self, action: &[f64], obs: &mut [f64]) -> Result<Step, EnvError>;
+
+    /// Overwrites the joint state of the current episode (Gymnasium's `set_state`), then
+    /// writes the resulting observation. Used to replay recorded initial states.
+    fn set_state(&mut self, qpos: &[f64], qvel: &[f64], obs: &mut [f64]) -> Result<(), EnvError>;
+
+    /// `qpos[0]` now: the forward position of the locomotion tasks.
+    fn x_position(&self) -> f64;
+}
+
+impl Env for Box<dyn Env> {
+    fn spec(&self) -> &EnvSpec {
+        (**self).spec()
+    }
+    fn reset(&mut self, seed: Option<u64>, obs: &mut [f64]) {
+        (**self).reset(seed, obs)
+    }
+    fn step(&mut self, action: &[f64], obs: &mut [f64]) -> Result<Step, EnvError> {
+        (**self).step(action, obs)
+    }
+    fn set_state(&mut self, qpos: &[f64], qvel: &[f64], obs: &mut [f64]) -> Result<(), EnvError> {
+        (**self).set_state(qpos, qvel, obs)
+    }
+    fn x_position(&self) -> f64 {
+        (**self).x_position()
+    }
+}

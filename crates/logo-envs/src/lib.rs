@@ -1,0 +1,30 @@
+//! Gymnasium-exact MuJoCo environments for logo-rl.
+//!
+//! - [`Env`]: the interface every environment implements (reset, step, seeded noise).
+//! - [`MujocoEnv`]: the generic MuJoCo stepping loop; a new MJCF model needs only a
+//!   [`Task`] (observation, reward, termination, reset noise), see `hopper.rs` for one.
+//! - The four LOGO tasks in their Gymnasium `-v4` and `-v5` forms, and [`SparseReward`],
+//!   LOGO's sparse versions (`SparseHopper-v4`, ...).
+//! - [`VecEnv`]: N copies on worker threads, one `MjData` each over a shared `MjModel`.
+//!
+//! This crate knows nothing of neural networks: observations and actions are `f64` slices.
+
+mod env;
+mod half_cheetah;
+mod hopper;
+mod inverted_double_pendulum;
+mod mujoco_env;
+mod registry;
+mod sparse;
+mod vec_env;
+mod walker2d;
+
+pub use env::{Env, EnvError, EnvSpec, Step, StepInfo};
+pub use half_cheetah::HalfCheetah;
+pub use hopper::Hopper;
+pub use inverted_double_pendulum::InvertedDoublePendulum;
+pub use mujoco_env::{Data, MujocoEnv, ResetNoise, Task, models_dir};
+pub use registry::{BASE_ENV_IDS, EnvFactory, EnvOptions, Version, all_env_ids, make};
+pub use sparse::{SparseReward, SparseRule};
+pub use vec_env::{VecEnv, VecStep};
+pub use walker2d::Walker2d;

@@ -1,0 +1,251 @@
+//! The MuJoCo stepping loop shared by every task, as Gymnasium's `MujocoEnv` does it:
+//! write ctrl, `mj_step` frame-skip times, `mj_rnePostConstraint`, then the task's
+//! reward, termination and observation; a `TimeLimit` on top reports truncation.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use mujoco_rs::prelude::{MjData, MjModel};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+
+use crate::env::{Env, EnvError, EnvSpec, Step, StepInfo};
+
+/// Simulation state of one env: an `MjData` over a model shared by all copies.
+pub type Data = MjData<Arc<MjModel>>;
+
+/// Where the MJCF files live: `$LOGO_MODELS_DIR`, else the repository's `models/`.
+pub fn models_dir() -> PathBuf {
+    match std::env::var_os("LOGO_MODELS_DIR") {
+        Some(dir) => PathBuf::from(dir),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models"),
+    }
+}
+
+/// How `reset` perturbs the model's initial pose (Gymnasium's `reset_noise_scale`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ResetNoise {
+    /// qpos and qvel each += U(-scale, scale) (Hopper, Walker2d).
+    Uniform { scale: f64 },
+    /// qpos += U(-scale, scale), qvel += scale * N(0, 1) (HalfCheetah, InvertedDoublePendulum).
+    UniformPosNormalVel { scale: f64 },
+}
+
+/// What makes one environment different from another: implement this for a new MJCF model.
+pub trait Task: Send + Sync + 'static {
+    /// Registry id, e.g. `Hopper-v4`.
+    fn id(&self) -> String;
+    /// MJCF file name inside [`models_dir`].
+    fn model_file(&self) -> &'static str;
+    /// MuJoCo steps per env step.
+    fn frame_skip(&self) -> usize;
+    fn obs_dim(&self) -> usize;
+    fn reset_noise(&self) -> ResetNoise;
+    /// Writes the observation of the current state.
+    fn observe(&self, data: &Data, obs: &mut [f64]);
+    /// Reward and termination of the step that just ran. `x_before` is `qpos[0]` before it,
+    /// `dt` the env step's duration, `action` the action as given (not clamped).
+    fn reward(&self, data: &Data, x_before: f64, dt: f64, action: &[f64]) -> (f64, bool);
+}
+
+/// A MuJoCo environment: one [`Task`] over one `MjData`.
+pub struct MujocoEnv<T: Task> {
+    task: T,
+    spec: EnvSpec,
+    data: Data,
+    init_qpos: Vec<f64>,
+    init_qvel: Vec<f64>,
+    rng: ChaCha8Rng,
+    elapsed_steps: usize,
+    /// False before the first reset and after a terminal step.
+    running: bool,
+    scratch_qpos: Vec<f64>,
+    scratch_qvel: Vec<f64>,
+}
+
+/// Loads `file` from [`models_dir`] with a clear error when it is missing.
+pub fn load_model(file: &str) -> Result<Arc<MjModel>, EnvError> {
+    let path = models_dir().join(file);
+    if !path.is_file() {
+        return Err(EnvError::ModelMissing(path));
+    }
+    MjModel::from_xml(&path)
+        .map(Arc::new)
+        .map_err(|e| EnvError::ModelLoad {
+            path,
+            reason: e.to_string(),
+        })
+}
+
+impl<T: Task> MujocoEnv<T> {
+    /// Builds an env over an already loaded model (shared by the copies of a [`crate::VecEnv`]).
+    pub fn with_model(task: T, model: Arc<MjModel>, max_episode_steps: usize) -> Self {
+        let data = MjData::new(model.clone());
+        let ffi = model.ffi();
+        let frame_skip = task.frame_skip();
+        let (action_low, action_high) = model
+            .actuator_ctrlrange()
+            .iter()
+            .map(|r| (r[0], r[1]))
+            .unzip();
+        let spec = EnvSpec {
+            id: task.id(),
+            obs_dim: task.obs_dim(),
+            act_dim: ffi.nu as usize,
+            action_low,
+            action_high,
+            max_episode_steps,
+            frame_skip,
+            dt: model.opt().timestep * frame_skip as f64,
+        };
+        // Gymnasium reads the initial pose from a fresh MjData: qpos0 and zero velocities.
+        let init_qpos = data.qpos().to_vec();
+        let init_qvel = data.qvel().to_vec();
+        Self {
+            task,
+            spec,
+            data,
+            scratch_qpos: init_qpos.clone(),
+            scratch_qvel: init_qvel.clone(),
+            init_qpos,
+            init_qvel,
+            rng: ChaCha8Rng::seed_from_u64(0),
+            elapsed_steps: 0,
+            running: false,
+        }
+    }
+
+    /// Loads the task's MJCF file and builds one env.
+    pub fn new(task: T, max_episode_steps: usize) -> Result<Self, EnvError> {
+        let model = load_model(task.model_file())?;
+        Ok(Self::with_model(task, model, max_episode_steps))
+    }
+
+    pub fn task(&self) -> &T {
+        &self.task
+    }
+
+    pub fn data(&self) -> &Data {
+        &self.data
+    }
+
+    /// Gymnasium's `set_state`: copies the scratch qpos/qvel in, then `mj_forward`.
+    fn write_scratch_state(&mut self) {
+        self.data.qpos_mut().copy_from_slice(&self.scratch_qpos);
+        self.data.qvel_mut().copy_from_slice(&self.scratch_qvel);
+        self.data.forward();
+    }
+}
+
+impl<T: Task> Env for MujocoEnv<T> {
+    fn spec(&self) -> &EnvSpec {
+        &self.spec
+    }
+
+    fn reset(&mut self, seed: Option<u64>, obs: &mut [f64]) {
+        if let Some(seed) = seed {
+            self.rng = ChaCha8Rng::seed_from_u64(seed);
+        }
+        self.data.reset();
+        // Same draw order as Gymnasium: all of qpos's noise, then qvel's.
+        match self.task.reset_noise() {
+            ResetNoise::Uniform { scale } => {
+                for (q, q0) in self.scratch_qpos.iter_mut().zip(&self.init_qpos) {
+                    *q = q0 + self.rng.random_range(-scale..scale);
+                }
+                for (v, v0) in self.scratch_qvel.iter_mut().zip(&self.init_qvel) {
+                    *v = v0 + self.rng.random_range(-scale..scale);
+                }
+            }
+            ResetNoise::UniformPosNormalVel { scale } => {
+                for (q, q0) in self.scratch_qpos.iter_mut().zip(&self.init_qpos) {
+                    *q = q0 + self.rng.random_range(-scale..scale);
+                }
+                for (v, v0) in self.scratch_qvel.iter_mut().zip(&self.init_qvel) {
+                    let n: f64 = self.rng.sample(StandardNormal);
+                    *v = v0 + scale * n;
+                }
+            }
+        }
+        self.write_scratch_state();
+        self.elapsed_steps = 0;
+        self.running = true;
+        self.task.observe(&self.data, obs);
+    }
+
+    fn step(&mut self, action: &[f64], obs: &mut [f64]) -> Result<Step, EnvError> {
+        if !self.running {
+            let why = if self.elapsed_steps == 0 {
+                "before reset"
+            } else {
+                "after the episode ended"
+            };
+            return Err(EnvError::NeedsReset {
+                env: self.spec.id.clone(),
+                why,
+            });
+        }
+        if action.len() != self.spec.act_dim {
+            return Err(EnvError::ActionLength {
+                env: self.spec.id.clone(),
+                expected: self.spec.act_dim,
+                got: action.len(),
+            });
+        }
+        if let Some((index, &value)) = action.iter().enumerate().find(|(_, a)| !a.is_finite()) {
+            return Err(EnvError::NonFiniteAction {
+                env: self.spec.id.clone(),
+                index,
+                value,
+            });
+        }
+
+        let x_before = self.data.qpos()[0];
+        self.data.ctrl_mut().copy_from_slice(action);
+        for _ in 0..self.task.frame_skip() {
+            self.data.step();
+        }
+        self.data.rne_post_constraint();
+
+        let (reward, terminated) = self.task.reward(&self.data, x_before, self.spec.dt, action);
+        self.task.observe(&self.data, obs);
+        self.elapsed_steps += 1;
+        let truncated = self.elapsed_steps >= self.spec.max_episode_steps;
+        self.running = !(terminated || truncated);
+        Ok(Step {
+            reward,
+            terminated,
+            truncated,
+            info: StepInfo {
+                dense_reward: reward,
+                x_position: self.data.qpos()[0],
+            },
+        })
+    }
+
+    fn set_state(&mut self, qpos: &[f64], qvel: &[f64], obs: &mut [f64]) -> Result<(), EnvError> {
+        for (what, got, expected) in [
+            ("qpos", qpos.len(), self.init_qpos.len()),
+            ("qvel", qvel.len(), self.init_qvel.len()),
+        ] {
+            if got != expected {
+                return Err(EnvError::StateLength {
+                    env: self.spec.id.clone(),
+                    what,
+                    expected,
+                    got,
+                });
+            }
+        }
+        self.scratch_qpos.copy_from_slice(qpos);
+        self.scratch_qvel.copy_from_slice(qvel);
+        self.write_scratch_state();
+        self.task.observe(&self.data, obs);
+        Ok(())
+    }
+
+    fn x_position(&self) -> f64 {
+        self.data.qpos()[0]
+    }
+}

@@ -1,0 +1,150 @@
+//! N copies of one env stepped on worker threads.
+//!
+//! Each copy owns its `MjData` and noise generator over one shared `MjModel`, and no copy
+//! reads another's state, so the results are the same whatever the thread count (tested).
+//! A copy whose episode ends is reset on the spot; its last observation is kept in
+//! [`VecStep::final_obs`] so a truncated episode can bootstrap from it.
+
+use rayon::prelude::*;
+
+use crate::env::{Env, EnvError, EnvSpec, Step};
+use crate::registry::EnvFactory;
+
+/// The outcome of one vectorised step, env-major (`obs[i * obs_dim..][..obs_dim]`).
+#[derive(Debug, Clone, Default)]
+pub struct VecStep {
+    /// Observations to act on next (after any auto-reset).
+    pub obs: Vec<f64>,
+    pub steps: Vec<Step>,
+    /// The episode's last observation where `steps[i].done()`; stale elsewhere.
+    pub final_obs: Vec<f64>,
+}
+
+pub struct VecEnv {
+    envs: Vec<Box<dyn Env>>,
+    pool: Option<rayon::ThreadPool>,
+    spec: EnvSpec,
+    out: VecStep,
+}
+
+/// Steps one copy; resets it when its episode ends.
+fn step_one(
+    env: &mut Box<dyn Env>,
+    action: &[f64],
+    obs: &mut [f64],
+    final_obs: &mut [f64],
+    out: &mut Step,
+) -> Result<(), EnvError> {
+    *out = env.step(action, obs)?;
+    if out.done() {
+        final_obs.copy_from_slice(obs);
+        env.reset(None, obs);
+    }
+    Ok(())
+}
+
+impl VecEnv {
+    /// `num_envs` copies on `threads` worker threads (1: the calling thread). Copy `i` is
+    /// first reset with seed `seed + i`, as Gymnasium's vector envs do.
+    pub fn new(
+        factory: &EnvFactory,
+        num_envs: usize,
+        threads: usize,
+        seed: u64,
+    ) -> Result<Self, EnvError> {
+        if num_envs == 0 || threads == 0 {
+            return Err(EnvError::InvalidOption(format!(
+                "a vectorised env needs at least one copy and one thread (got {num_envs} copies, {threads} threads)"
+            )));
+        }
+        let pool = if threads > 1 {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .thread_name(|i| format!("logo-env-{i}"))
+                .build()
+                .map_err(|e| {
+                    EnvError::InvalidOption(format!("cannot start {threads} threads: {e}"))
+                })?;
+            Some(pool)
+        } else {
+            None
+        };
+        let spec = factory.spec().clone();
+        let envs = (0..num_envs).map(|_| factory.build()).collect();
+        let mut vec_env = Self {
+            envs,
+            pool,
+            out: VecStep {
+                obs: vec![0.0; num_envs * spec.obs_dim],
+                steps: vec![Step::default(); num_envs],
+                final_obs: vec![0.0; num_envs * spec.obs_dim],
+            },
+            spec,
+        };
+        vec_env.reset(seed);
+        Ok(vec_env)
+    }
+
+    /// Resets every copy, copy `i` with seed `seed + i`.
+    pub fn reset(&mut self, seed: u64) -> &[f64] {
+        let obs_dim = self.spec.obs_dim;
+        for (i, (env, obs)) in self
+            .envs
+            .iter_mut()
+            .zip(self.out.obs.chunks_mut(obs_dim))
+            .enumerate()
+        {
+            env.reset(Some(seed.wrapping_add(i as u64)), obs);
+        }
+        &self.out.obs
+    }
+
+    pub fn spec(&self) -> &EnvSpec {
+        &self.spec
+    }
+
+    pub fn num_envs(&self) -> usize {
+        self.envs.len()
+    }
+
+    /// Current observations, `num_envs * obs_dim`.
+    pub fn obs(&self) -> &[f64] {
+        &self.out.obs
+    }
+
+    /// Steps every copy with its slice of `actions` (`num_envs * act_dim`, env-major).
+    pub fn step(&mut self, actions: &[f64]) -> Result<&VecStep, EnvError> {
+        let (n, act_dim, obs_dim) = (self.envs.len(), self.spec.act_dim, self.spec.obs_dim);
+        if actions.len() != n * act_dim {
+            return Err(EnvError::ActionLength {
+                env: format!("{} x {n}", self.spec.id),
+                expected: n * act_dim,
+                got: actions.len(),
+            });
+        }
+        let VecStep {
+            obs,
+            steps,
+            final_obs,
+        } = &mut self.out;
+        let envs = &mut self.envs;
+        match &self.pool {
+            Some(pool) => pool.install(|| {
+                envs.par_iter_mut()
+                    .zip(actions.par_chunks(act_dim))
+                    .zip(obs.par_chunks_mut(obs_dim))
+                    .zip(final_obs.par_chunks_mut(obs_dim))
+                    .zip(steps.par_iter_mut())
+                    .try_for_each(|((((env, a), o), f), s)| step_one(env, a, o, f, s))
+            })?,
+            None => envs
+                .iter_mut()
+                .zip(actions.chunks(act_dim))
+                .zip(obs.chunks_mut(obs_dim))
+                .zip(final_obs.chunks_mut(obs_dim))
+                .zip(steps.iter_mut())
+                .try_for_each(|((((env, a), o), f), s)| step_one(env, a, o, f, s))?,
+        }
+        Ok(&self.out)
+    }
+}

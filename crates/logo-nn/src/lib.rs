@@ -1,0 +1,2 @@
+//! Networks for logo-rl (work in progress).
+pub use burn;
