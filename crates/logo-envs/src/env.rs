@@ -97,8 +97,13 @@ pub trait Env: Send {
     /// writes the resulting observation. Used to replay recorded initial states.
     fn set_state(&mut self, qpos: &[f64], qvel: &[f64], obs: &mut [f64]) -> Result<(), EnvError>;
 
+    /// The joint state now: `(qpos, qvel)` (Gymnasium's `state_vector`, split).
+    fn state(&self) -> (&[f64], &[f64]);
+
     /// `qpos[0]` now: the forward position of the locomotion tasks.
-    fn x_position(&self) -> f64;
+    fn x_position(&self) -> f64 {
+        self.state().0[0]
+    }
 }
 
 impl Env for Box<dyn Env> {
@@ -113,6 +118,9 @@ impl Env for Box<dyn Env> {
     }
     fn set_state(&mut self, qpos: &[f64], qvel: &[f64], obs: &mut [f64]) -> Result<(), EnvError> {
         (**self).set_state(qpos, qvel, obs)
+    }
+    fn state(&self) -> (&[f64], &[f64]) {
+        (**self).state()
     }
     fn x_position(&self) -> f64 {
         (**self).x_position()

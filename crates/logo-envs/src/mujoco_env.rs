@@ -3,9 +3,9 @@
 //! reward, termination and observation; a `TimeLimit` on top reports truncation.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, Once};
 
-use mujoco_rs::prelude::{MjData, MjModel};
+use mujoco_rs::prelude::{MjData, MjLogMessage, MjModel, MjtLogLevel, set_log_handler};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
@@ -64,8 +64,35 @@ pub struct MujocoEnv<T: Task> {
     scratch_qvel: Vec<f64>,
 }
 
+/// MuJoCo's default handler prints warnings and appends them to `MUJOCO_LOG.TXT` in the
+/// working directory. Route warnings and errors to stderr instead, once per distinct
+/// message; drop debug/info messages and the deprecation notice Gymnasium's `half_cheetah.xml` triggers (`settotalmass`), which
+/// MuJoCo 3.17 still honours and which says nothing about the run.
+fn route_mujoco_messages() {
+    static ONCE: Once = Once::new();
+    fn handler(message: &MjLogMessage) {
+        static SEEN: Mutex<Vec<String>> = Mutex::new(Vec::new());
+        let text = message.subject().to_string();
+        if (message.level() as u32) < (MjtLogLevel::mjLOG_WARNING as u32)
+            || text.contains("settotalmass")
+        {
+            return;
+        }
+        let mut seen = SEEN.lock().unwrap_or_else(|e| e.into_inner());
+        if !seen.contains(&text) {
+            eprintln!("MuJoCo: {text}");
+            seen.push(text);
+        }
+    }
+    // SAFETY: every MuJoCo model of this crate is made by `load_model`, which calls this
+    // first; `Once` holds any other caller until the handler is in place, so no thread
+    // uses MuJoCo while it is installed.
+    ONCE.call_once(|| unsafe { set_log_handler(handler) });
+}
+
 /// Loads `file` from [`models_dir`] with a clear error when it is missing.
 pub fn load_model(file: &str) -> Result<Arc<MjModel>, EnvError> {
+    route_mujoco_messages();
     let path = models_dir().join(file);
     if !path.is_file() {
         return Err(EnvError::ModelMissing(path));
@@ -245,7 +272,7 @@ impl<T: Task> Env for MujocoEnv<T> {
         Ok(())
     }
 
-    fn x_position(&self) -> f64 {
-        self.data.qpos()[0]
+    fn state(&self) -> (&[f64], &[f64]) {
+        (self.data.qpos(), self.data.qvel())
     }
 }

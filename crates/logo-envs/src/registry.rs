@@ -82,6 +82,15 @@ pub struct EnvFactory {
     spec: EnvSpec,
 }
 
+impl fmt::Debug for EnvFactory {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("EnvFactory")
+            .field("id", &self.spec.id)
+            .field("options", &self.options)
+            .finish()
+    }
+}
+
 fn unknown(id: &str) -> EnvError {
     EnvError::UnknownId(id.to_string(), all_env_ids().join(", "))
 }

@@ -87,7 +87,7 @@ impl<E: Env> Env for SparseReward<E> {
         Ok(())
     }
 
-    fn x_position(&self) -> f64 {
-        self.inner.x_position()
+    fn state(&self) -> (&[f64], &[f64]) {
+        self.inner.state()
     }
 }

@@ -1,0 +1,229 @@
+//! Behaviour of the env API beyond the Gymnasium formulas (those are in parity.rs).
+
+use logo_envs::{Env, EnvError, EnvFactory, EnvOptions, VecEnv, make};
+
+/// A deterministic, seed-free action stream in [-1, 1] for copy `env` at step `t`.
+fn action(env: usize, t: usize, dim: usize) -> Vec<f64> {
+    (0..dim)
+        .map(|j| ((env * 31 + t * 7 + j * 13) as f64 * 0.618).sin())
+        .collect()
+}
+
+#[test]
+fn a_seed_fixes_the_reset_noise_and_none_continues_the_stream() {
+    for id in ["Hopper-v4", "HalfCheetah-v5", "InvertedDoublePendulum-v4"] {
+        let mut env = make(id).unwrap();
+        let n = env.spec().obs_dim;
+        let (mut a, mut b, mut c, mut d) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        env.reset(Some(7), &mut a);
+        env.reset(None, &mut c);
+        env.reset(Some(7), &mut b);
+        env.reset(Some(8), &mut d);
+        assert_eq!(a, b, "{id}: same seed, same initial observation");
+        assert_ne!(a, c, "{id}: reset(None) draws fresh noise");
+        assert_ne!(a, d, "{id}: another seed, another state");
+    }
+}
+
+#[test]
+fn bad_actions_are_errors_not_panics() {
+    let mut env = make("Hopper-v4").unwrap();
+    let mut obs = vec![0.0; 11];
+    assert!(matches!(
+        env.step(&[0.0; 3], &mut obs),
+        Err(EnvError::NeedsReset { .. })
+    ));
+    env.reset(Some(0), &mut obs);
+    let err = env.step(&[0.0; 2], &mut obs).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            EnvError::ActionLength {
+                expected: 3,
+                got: 2,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("Hopper-v4 expects 3"), "{err}");
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let err = env.step(&[0.0, bad, 0.0], &mut obs).unwrap_err();
+        assert!(
+            matches!(err, EnvError::NonFiniteAction { index: 1, .. }),
+            "{err}"
+        );
+    }
+    // The rejected actions did not advance the episode.
+    assert!(env.step(&[0.0; 3], &mut obs).is_ok());
+}
+
+#[test]
+fn stepping_a_finished_episode_asks_for_reset() {
+    let mut env = make("InvertedDoublePendulum-v4").unwrap();
+    let mut obs = vec![0.0; 11];
+    env.reset(Some(0), &mut obs);
+    let mut steps = 0;
+    while !env.step(&[1.0], &mut obs).unwrap().done() {
+        steps += 1;
+        assert!(steps < 1000, "a saturating push should drop the pendulum");
+    }
+    let err = env.step(&[1.0], &mut obs).unwrap_err();
+    assert!(err.to_string().contains("after the episode ended"), "{err}");
+}
+
+#[test]
+fn the_time_limit_truncates_and_does_not_terminate() {
+    let factory = EnvFactory::new(
+        "HalfCheetah-v4",
+        &EnvOptions {
+            max_episode_steps: 5,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let mut env = factory.build();
+    let mut obs = vec![0.0; 17];
+    env.reset(Some(0), &mut obs);
+    for t in 1..=5 {
+        let step = env.step(&[0.0; 6], &mut obs).unwrap();
+        assert_eq!(
+            (step.terminated, step.truncated),
+            (false, t == 5),
+            "step {t}"
+        );
+    }
+}
+
+#[test]
+fn the_episode_lump_pays_the_dense_return_once() {
+    let mut env = make("SparseInvertedDoublePendulum-v4").unwrap();
+    let mut obs = vec![0.0; 11];
+    env.reset(Some(3), &mut obs);
+    let (mut dense, mut sparse, mut paid) = (0.0, 0.0, 0);
+    loop {
+        let step = env.step(&[0.3], &mut obs).unwrap();
+        dense += step.info.dense_reward;
+        sparse += step.reward;
+        paid += usize::from(step.reward != 0.0);
+        if step.done() {
+            assert_eq!(step.reward, dense);
+            break;
+        }
+    }
+    assert_eq!((sparse, paid), (dense, 1));
+}
+
+#[test]
+fn vec_env_results_do_not_depend_on_the_thread_count() {
+    let factory = EnvFactory::new("SparseHopper-v4", &EnvOptions::default()).unwrap();
+    let run = |threads: usize| {
+        let mut venv = VecEnv::new(&factory, 5, threads, 42).unwrap();
+        let (n, act_dim) = (venv.num_envs(), venv.spec().act_dim);
+        let mut trace = Vec::new();
+        let mut done = 0;
+        for t in 0..300 {
+            let actions: Vec<f64> = (0..n).flat_map(|i| action(i, t, act_dim)).collect();
+            let out = venv.step(&actions).unwrap();
+            trace.extend_from_slice(&out.obs);
+            for (i, s) in out.steps.iter().enumerate() {
+                trace.extend([
+                    s.reward,
+                    s.info.dense_reward,
+                    f64::from(u8::from(s.terminated)),
+                ]);
+                if s.done() {
+                    done += 1;
+                    trace.extend_from_slice(&out.final_obs[i * 11..][..11]);
+                }
+            }
+        }
+        (trace, done)
+    };
+    let (serial, done) = run(1);
+    assert!(
+        done > 5,
+        "the actions should end some episodes, exercising auto-reset ({done})"
+    );
+    for threads in [2, 3] {
+        let (parallel, _) = run(threads);
+        assert!(
+            serial
+                .iter()
+                .zip(&parallel)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{threads} threads differ"
+        );
+        assert_eq!(serial.len(), parallel.len());
+    }
+}
+
+#[test]
+fn vec_env_copies_match_single_envs_with_the_same_seeds() {
+    let factory = EnvFactory::new("Walker2d-v4", &EnvOptions::default()).unwrap();
+    let mut venv = VecEnv::new(&factory, 3, 2, 100).unwrap();
+    let mut singles: Vec<_> = (0..3).map(|_| factory.build()).collect();
+    let mut obs = vec![vec![0.0; 17]; 3];
+    for (i, env) in singles.iter_mut().enumerate() {
+        env.reset(Some(100 + i as u64), &mut obs[i]);
+    }
+    for t in 0..20 {
+        let actions: Vec<f64> = (0..3).flat_map(|i| action(i, t, 6)).collect();
+        let out = venv.step(&actions).unwrap().clone();
+        for (i, env) in singles.iter_mut().enumerate() {
+            let step = env.step(&actions[i * 6..][..6], &mut obs[i]).unwrap();
+            assert_eq!(step, out.steps[i]);
+            if !step.done() {
+                assert_eq!(obs[i], out.obs[i * 17..][..17]);
+            }
+        }
+    }
+}
+
+#[test]
+fn unknown_ids_and_bad_options_name_the_problem() {
+    let err = make("Hopper-v9").err().unwrap().to_string();
+    assert!(
+        err.contains("Hopper-v9") && err.contains("SparseHopper-v4"),
+        "{err}"
+    );
+    let bad = EnvOptions {
+        max_episode_steps: 0,
+        ..Default::default()
+    };
+    assert!(
+        EnvFactory::new("Hopper-v4", &bad)
+            .unwrap_err()
+            .to_string()
+            .contains("max_episode_steps")
+    );
+    let bad = EnvOptions {
+        sparse_threshold: Some(f64::NAN),
+        ..Default::default()
+    };
+    assert!(
+        EnvFactory::new("SparseHopper-v4", &bad)
+            .unwrap_err()
+            .to_string()
+            .contains("sparse_threshold")
+    );
+    let factory = EnvFactory::new("Hopper-v4", &EnvOptions::default()).unwrap();
+    assert!(VecEnv::new(&factory, 0, 1, 0).is_err());
+    assert!(VecEnv::new(&factory, 1, 0, 0).is_err());
+    let mut venv = VecEnv::new(&factory, 2, 1, 0).unwrap();
+    assert!(matches!(
+        venv.step(&[0.0; 5]),
+        Err(EnvError::ActionLength {
+            expected: 6,
+            got: 5,
+            ..
+        })
+    ));
+    let mut env = factory.build();
+    let mut obs = vec![0.0; 11];
+    env.reset(Some(0), &mut obs);
+    assert!(matches!(
+        env.set_state(&[0.0; 5], &[0.0; 6], &mut obs),
+        Err(EnvError::StateLength { what: "qpos", .. })
+    ));
+}
