@@ -1,0 +1,59 @@
+//! State-value critics: one MLP, or two for clipped double-Q (baseline min(V1, V2)).
+
+use burn::module::Module;
+use burn::tensor::{Tensor, backend::Backend};
+use serde::{Deserialize, Serialize};
+
+use crate::mlp::{Mlp, MlpConfig};
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ValueNetConfig {
+    pub obs_dim: usize,
+    /// The reference: 128-128, tanh.
+    pub hidden: Vec<usize>,
+}
+
+impl ValueNetConfig {
+    pub fn new(obs_dim: usize) -> Self {
+        Self { obs_dim, hidden: vec![128, 128] }
+    }
+
+    pub fn net(&self) -> MlpConfig {
+        MlpConfig { input: self.obs_dim, hidden: self.hidden.clone(), output: 1, output_scale: Some(0.1) }
+    }
+
+    pub fn init<B: Backend>(&self, device: &B::Device) -> ValueNet<B> {
+        ValueNet { net: self.net().init(device) }
+    }
+
+    pub fn init_twin<B: Backend>(&self, device: &B::Device) -> TwinCritic<B> {
+        TwinCritic { v1: self.init(device), v2: self.init(device) }
+    }
+}
+
+/// V(s).
+#[derive(Module, Debug)]
+pub struct ValueNet<B: Backend> {
+    pub net: Mlp<B>,
+}
+
+impl<B: Backend> ValueNet<B> {
+    /// One value per row of `obs`.
+    pub fn forward(&self, obs: Tensor<B, 2>) -> Tensor<B, 1> {
+        self.net.forward(obs).squeeze_dim::<1>(1)
+    }
+}
+
+/// Two independently initialised value nets fitted to the same returns; the baseline is
+/// their minimum (the seed paper's "CDQ").
+#[derive(Module, Debug)]
+pub struct TwinCritic<B: Backend> {
+    pub v1: ValueNet<B>,
+    pub v2: ValueNet<B>,
+}
+
+impl<B: Backend> TwinCritic<B> {
+    pub fn baseline(&self, obs: Tensor<B, 2>) -> Tensor<B, 1> {
+        self.v1.forward(obs.clone()).min_pair(self.v2.forward(obs))
+    }
+}
