@@ -9,6 +9,8 @@ cd "$root"
 ./scripts/setup.sh
 # Binaries find libmujoco by an rpath relative to ./target; this also covers a
 # CARGO_TARGET_DIR outside the checkout.
+# Tests that use the Python oracle fail instead of skipping when it is missing.
+export LOGO_REQUIRE_PYTHON=1
 export LD_LIBRARY_PATH="$root/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 
 echo "== parity fixtures vs the Gymnasium 1.4.0 oracle"

@@ -15,19 +15,32 @@ pub struct ValueNetConfig {
 
 impl ValueNetConfig {
     pub fn new(obs_dim: usize) -> Self {
-        Self { obs_dim, hidden: vec![128, 128] }
+        Self {
+            obs_dim,
+            hidden: vec![128, 128],
+        }
     }
 
     pub fn net(&self) -> MlpConfig {
-        MlpConfig { input: self.obs_dim, hidden: self.hidden.clone(), output: 1, output_scale: Some(0.1) }
+        MlpConfig {
+            input: self.obs_dim,
+            hidden: self.hidden.clone(),
+            output: 1,
+            output_scale: Some(0.1),
+        }
     }
 
     pub fn init<B: Backend>(&self, device: &B::Device) -> ValueNet<B> {
-        ValueNet { net: self.net().init(device) }
+        ValueNet {
+            net: self.net().init(device),
+        }
     }
 
     pub fn init_twin<B: Backend>(&self, device: &B::Device) -> TwinCritic<B> {
-        TwinCritic { v1: self.init(device), v2: self.init(device) }
+        TwinCritic {
+            v1: self.init(device),
+            v2: self.init(device),
+        }
     }
 }
 

@@ -18,12 +18,24 @@ pub struct DiscriminatorConfig {
 
 impl DiscriminatorConfig {
     pub fn new(observe: usize, act_dim: usize) -> Self {
-        Self { observe, act_dim, hidden: vec![128, 128] }
+        Self {
+            observe,
+            act_dim,
+            hidden: vec![128, 128],
+        }
     }
 
     pub fn init<B: Backend>(&self, device: &B::Device) -> Discriminator<B> {
-        let net = MlpConfig { input: self.observe + self.act_dim, hidden: self.hidden.clone(), output: 1, output_scale: None };
-        Discriminator { net: net.init(device), observe: self.observe }
+        let net = MlpConfig {
+            input: self.observe + self.act_dim,
+            hidden: self.hidden.clone(),
+            output: 1,
+            output_scale: None,
+        };
+        Discriminator {
+            net: net.init(device),
+            observe: self.observe,
+        }
     }
 }
 
@@ -39,7 +51,9 @@ impl<B: Backend> Discriminator<B> {
     pub fn logits(&self, obs: Tensor<B, 2>, actions: Tensor<B, 2>) -> Tensor<B, 1> {
         let rows = obs.dims()[0];
         let seen = obs.slice([0..rows, 0..self.observe]);
-        self.net.forward(Tensor::cat(vec![seen, actions], 1)).squeeze_dim::<1>(1)
+        self.net
+            .forward(Tensor::cat(vec![seen, actions], 1))
+            .squeeze_dim::<1>(1)
     }
 
     /// D(s, a) in (0, 1).

@@ -21,7 +21,8 @@ pub fn mean_kl<B: Backend>(
     let old_var = old_log_std.clone().mul_scalar(2.0).exp();
     let new_var = new_log_std.clone().mul_scalar(2.0).exp();
     let diff = old_mean - new_mean;
-    let per_dim = (new_log_std - old_log_std) + (old_var + diff.clone() * diff) / new_var.mul_scalar(2.0);
+    let per_dim =
+        (new_log_std - old_log_std) + (old_var + diff.clone() * diff) / new_var.mul_scalar(2.0);
     per_dim.sub_scalar(0.5).sum_dim(1).mean()
 }
 
@@ -52,9 +53,27 @@ impl<B: Backend> FisherVectorProduct<B> {
         let n = obs.dims()[0] as f64;
         let device = obs.device();
         let (inputs, _) = policy.mean.forward_trace(obs);
-        let scale = policy.log_std.val().mul_scalar(-2.0).exp().div_scalar(n).unsqueeze_dim::<2>(0);
-        let mean_params = policy.mean.layers.iter().map(|l| l.weight.shape().num_elements() + l.weight.dims()[1]).sum();
-        Self { mean_net: policy.mean.clone(), inputs, scale, mean_params, damping, device }
+        let scale = policy
+            .log_std
+            .val()
+            .mul_scalar(-2.0)
+            .exp()
+            .div_scalar(n)
+            .unsqueeze_dim::<2>(0);
+        let mean_params = policy
+            .mean
+            .layers
+            .iter()
+            .map(|l| l.weight.shape().num_elements() + l.weight.dims()[1])
+            .sum();
+        Self {
+            mean_net: policy.mean.clone(),
+            inputs,
+            scale,
+            mean_params,
+            damping,
+            device,
+        }
     }
 
     /// Length of the vectors this operates on: the policy's parameter count.
@@ -121,10 +140,20 @@ pub fn mean_kl_value<B: Backend>(
     policy: &GaussianPolicy<B>,
     obs: Tensor<B, 2>,
 ) -> f64 {
-    to_f64(mean_kl(old_mean, old_log_std, policy.mean.forward(obs), policy.log_std.val()))[0]
+    to_f64(mean_kl(
+        old_mean,
+        old_log_std,
+        policy.mean.forward(obs),
+        policy.log_std.val(),
+    ))[0]
 }
 
 /// `values` as a `[rows, cols]` tensor (test and glue helper).
-pub fn matrix<B: Backend>(values: &[f64], rows: usize, cols: usize, device: &B::Device) -> Tensor<B, 2> {
+pub fn matrix<B: Backend>(
+    values: &[f64],
+    rows: usize,
+    cols: usize,
+    device: &B::Device,
+) -> Tensor<B, 2> {
     from_f64(values, [rows, cols], device)
 }

@@ -10,11 +10,18 @@ use crate::mlp::{LayerTensors, Mlp};
 
 /// A tensor's values as `f64`, whatever the backend's float type.
 pub fn to_f64<B: Backend, const D: usize>(t: Tensor<B, D>) -> Vec<f64> {
-    t.into_data().convert::<f64>().into_vec::<f64>().expect("a float tensor converts to f64")
+    t.into_data()
+        .convert::<f64>()
+        .into_vec::<f64>()
+        .expect("a float tensor converts to f64")
 }
 
 /// A tensor of `shape` from `f64` values, in the backend's float type.
-pub fn from_f64<B: Backend, const D: usize>(values: &[f64], shape: [usize; D], device: &B::Device) -> Tensor<B, D> {
+pub fn from_f64<B: Backend, const D: usize>(
+    values: &[f64],
+    shape: [usize; D],
+    device: &B::Device,
+) -> Tensor<B, D> {
     Tensor::from_data(TensorData::new(values.to_vec(), shape), device)
 }
 
@@ -46,7 +53,11 @@ impl<B: Backend> ModuleMapper<B> for Load<'_> {
             let values = &self.flat[self.pos..self.pos + n];
             self.pos += n;
             let new = Tensor::from_data(TensorData::new(values.to_vec(), shape), &t.device());
-            if t.is_require_grad() { new.require_grad() } else { new }
+            if t.is_require_grad() {
+                new.require_grad()
+            } else {
+                new
+            }
         })
     }
 }
@@ -56,7 +67,11 @@ impl<B: Backend> ModuleMapper<B> for Load<'_> {
 /// # Panics
 /// If `flat.len()` is not `module.num_params()`: a caller's bug, not a user input.
 pub fn vec_to_params<B: Backend, M: Module<B>>(module: M, flat: &[f64]) -> M {
-    assert_eq!(flat.len(), module.num_params(), "flat parameter vector of the wrong length");
+    assert_eq!(
+        flat.len(),
+        module.num_params(),
+        "flat parameter vector of the wrong length"
+    );
     module.map(&mut Load { flat, pos: 0 })
 }
 
@@ -70,15 +85,23 @@ impl<B: AutodiffBackend> ModuleVisitor<B> for CollectGrads<'_, B> {
         let value = param.val();
         match value.grad(self.grads) {
             Some(g) => self.out.extend(to_f64(g)),
-            None => self.out.extend(std::iter::repeat_n(0.0, value.shape().num_elements())),
+            None => self
+                .out
+                .extend(std::iter::repeat_n(0.0, value.shape().num_elements())),
         }
     }
 }
 
 /// The gradient of every float parameter of `module`, flattened like [`params_to_vec`]
 /// (zeros where the loss does not depend on a parameter).
-pub fn grads_to_vec<B: AutodiffBackend, M: AutodiffModule<B>>(module: &M, grads: &B::Gradients) -> Vec<f64> {
-    let mut collect = CollectGrads { grads, out: Vec::with_capacity(module.num_params()) };
+pub fn grads_to_vec<B: AutodiffBackend, M: AutodiffModule<B>>(
+    module: &M,
+    grads: &B::Gradients,
+) -> Vec<f64> {
+    let mut collect = CollectGrads {
+        grads,
+        out: Vec::with_capacity(module.num_params()),
+    };
     module.visit(&mut collect);
     collect.out
 }
@@ -100,5 +123,8 @@ pub fn split_layers<B: Backend>(mlp: &Mlp<B>, flat: &[f64], device: &B::Device) 
 
 /// The inverse of [`split_layers`].
 pub fn flatten_layers<B: Backend>(layers: LayerTensors<B>) -> Vec<f64> {
-    layers.into_iter().flat_map(|(w, b)| to_f64(w).into_iter().chain(to_f64(b))).collect()
+    layers
+        .into_iter()
+        .flat_map(|(w, b)| to_f64(w).into_iter().chain(to_f64(b)))
+        .collect()
 }

@@ -16,6 +16,7 @@ pub mod torch_import;
 
 pub use burn;
 
+pub use checkpoint::{Checkpoint, CheckpointError, CheckpointMeta};
 pub use critic::{TwinCritic, ValueNet, ValueNetConfig};
 pub use discriminator::{Discriminator, DiscriminatorConfig};
 pub use fisher::{FisherVectorProduct, conjugate_gradient, mean_kl};

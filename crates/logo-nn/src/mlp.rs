@@ -34,8 +34,10 @@ pub fn tanh<B: Backend, const D: usize>(x: Tensor<B, D>) -> Tensor<B, D> {
 
 impl MlpConfig {
     pub fn init<B: Backend>(&self, device: &B::Device) -> Mlp<B> {
-        let dims: Vec<usize> =
-            std::iter::once(self.input).chain(self.hidden.iter().copied()).chain([self.output]).collect();
+        let dims: Vec<usize> = std::iter::once(self.input)
+            .chain(self.hidden.iter().copied())
+            .chain([self.output])
+            .collect();
         let last = dims.len() - 2;
         let layers = dims
             .windows(2)
@@ -46,7 +48,9 @@ impl MlpConfig {
                 if let (true, Some(scale)) = (i == last, self.output_scale) {
                     // detach + require_grad: the scaled weight must be a leaf of the autodiff
                     // graph, or it would never receive a gradient.
-                    layer.weight = layer.weight.map(|w| w.mul_scalar(scale).detach().require_grad());
+                    layer.weight = layer
+                        .weight
+                        .map(|w| w.mul_scalar(scale).detach().require_grad());
                     layer.bias = Some(Param::from_tensor(Tensor::zeros([w[1]], device)));
                 }
                 layer
@@ -57,8 +61,10 @@ impl MlpConfig {
 
     /// Number of scalar parameters.
     pub fn num_params(&self) -> usize {
-        let dims: Vec<usize> =
-            std::iter::once(self.input).chain(self.hidden.iter().copied()).chain([self.output]).collect();
+        let dims: Vec<usize> = std::iter::once(self.input)
+            .chain(self.hidden.iter().copied())
+            .chain([self.output])
+            .collect();
         dims.windows(2).map(|w| w[0] * w[1] + w[1]).sum()
     }
 }
@@ -115,7 +121,10 @@ impl<B: Backend> Mlp<B> {
         let mut dz = upstream;
         for i in (0..self.layers.len()).rev() {
             let x = inputs[i].clone();
-            grads.push((x.clone().transpose().matmul(dz.clone()), dz.clone().sum_dim(0).squeeze_dim(0)));
+            grads.push((
+                x.clone().transpose().matmul(dz.clone()),
+                dz.clone().sum_dim(0).squeeze_dim(0),
+            ));
             if i > 0 {
                 dz = dz.matmul(self.weight(i).transpose()) * (x.clone() * x).neg().add_scalar(1.0);
             }

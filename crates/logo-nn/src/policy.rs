@@ -24,11 +24,21 @@ pub struct PolicyConfig {
 
 impl PolicyConfig {
     pub fn new(obs_dim: usize, act_dim: usize) -> Self {
-        Self { obs_dim, act_dim, hidden: vec![128, 128], log_std_init: 0.0 }
+        Self {
+            obs_dim,
+            act_dim,
+            hidden: vec![128, 128],
+            log_std_init: 0.0,
+        }
     }
 
     pub fn mean_net(&self) -> MlpConfig {
-        MlpConfig { input: self.obs_dim, hidden: self.hidden.clone(), output: self.act_dim, output_scale: Some(0.1) }
+        MlpConfig {
+            input: self.obs_dim,
+            hidden: self.hidden.clone(),
+            output: self.act_dim,
+            output_scale: Some(0.1),
+        }
     }
 
     pub fn init<B: Backend>(&self, device: &B::Device) -> GaussianPolicy<B> {
@@ -47,12 +57,19 @@ pub struct GaussianPolicy<B: Backend> {
 }
 
 /// log N(a; μ, σ²) summed over action dimensions: one value per row.
-pub fn gaussian_log_prob<B: Backend>(mean: Tensor<B, 2>, log_std: Tensor<B, 1>, actions: Tensor<B, 2>) -> Tensor<B, 1> {
+pub fn gaussian_log_prob<B: Backend>(
+    mean: Tensor<B, 2>,
+    log_std: Tensor<B, 1>,
+    actions: Tensor<B, 2>,
+) -> Tensor<B, 1> {
     let act_dim = log_std.dims()[0] as f64;
     let log_std = log_std.unsqueeze_dim::<2>(0);
     let z = (actions - mean) / log_std.clone().exp();
     let per_row = (z.clone() * z).mul_scalar(-0.5) - log_std;
-    per_row.sum_dim(1).squeeze_dim::<1>(1).sub_scalar(0.5 * LOG_2PI * act_dim)
+    per_row
+        .sum_dim(1)
+        .squeeze_dim::<1>(1)
+        .sub_scalar(0.5 * LOG_2PI * act_dim)
 }
 
 impl<B: Backend> GaussianPolicy<B> {
@@ -77,7 +94,10 @@ impl<B: Backend> GaussianPolicy<B> {
     /// Entropy of π(·|s) (the same for every state): Σ log σ + ½ d (1 + ln 2π).
     pub fn entropy(&self) -> Tensor<B, 1> {
         let d = self.act_dim() as f64;
-        self.log_std.val().sum().add_scalar(0.5 * d * (1.0 + LOG_2PI))
+        self.log_std
+            .val()
+            .sum()
+            .add_scalar(0.5 * d * (1.0 + LOG_2PI))
     }
 
     /// Samples a ~ π(·|s) for every row of `obs`, with the caller's generator (so a seed

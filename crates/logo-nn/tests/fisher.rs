@@ -1,10 +1,12 @@
 //! The natural-gradient pieces against independent computations.
 
-use burn::tensor::Tensor;
 use burn::backend::ndarray::NdArrayDevice;
 use burn::module::AutodiffModule;
+use burn::tensor::Tensor;
 use logo_nn::flat::{from_f64, grads_to_vec, params_to_vec, to_f64, vec_to_params};
-use logo_nn::{CpuAutodiff, FisherVectorProduct, GaussianPolicy, PolicyConfig, conjugate_gradient, mean_kl};
+use logo_nn::{
+    CpuAutodiff, FisherVectorProduct, GaussianPolicy, PolicyConfig, conjugate_gradient, mean_kl,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -12,19 +14,31 @@ type B = CpuAutodiff;
 type Inner = <B as burn::tensor::backend::AutodiffBackend>::InnerBackend;
 
 fn tiny_policy(device: &NdArrayDevice) -> (GaussianPolicy<B>, Tensor<B, 2>) {
-    let config = PolicyConfig { obs_dim: 3, act_dim: 2, hidden: vec![4, 5], log_std_init: -0.3 };
+    let config = PolicyConfig {
+        obs_dim: 3,
+        act_dim: 2,
+        hidden: vec![4, 5],
+        log_std_init: -0.3,
+    };
     let mut policy = config.init::<B>(device);
     // Random parameters everywhere (the init's zero output bias would hide errors), and
     // unequal standard deviations so M = diag(1/σ²) matters.
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let theta: Vec<f64> = (0..policy.num_params()).map(|_| rng.random_range(-0.8..0.8)).collect();
+    let theta: Vec<f64> = (0..policy.num_params())
+        .map(|_| rng.random_range(-0.8..0.8))
+        .collect();
     policy = vec_to_params(policy, &theta);
     let obs: Vec<f64> = (0..7 * 3).map(|_| rng.random_range(-2.0..2.0)).collect();
     (policy, from_f64(&obs, [7, 3], device))
 }
 
 fn relative_error(a: &[f64], b: &[f64]) -> f64 {
-    let diff: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
+    let diff: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+        .sqrt();
     let norm: f64 = b.iter().map(|y| y * y).sum::<f64>().sqrt();
     diff / norm
 }
@@ -80,7 +94,9 @@ fn fisher_vector_product_matches_the_explicit_fisher_matrix() {
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     for _ in 0..5 {
         let v: Vec<f64> = (0..p).map(|_| rng.random_range(-1.0..1.0)).collect();
-        let want: Vec<f64> = (0..p).map(|a| (0..p).map(|b| f[a][b] * v[b]).sum()).collect();
+        let want: Vec<f64> = (0..p)
+            .map(|a| (0..p).map(|b| f[a][b] * v[b]).sum())
+            .collect();
         worst = worst.max(relative_error(&fvp.apply(&v), &want));
     }
     assert!(worst <= 1e-8, "relative error {worst:e}");
@@ -96,19 +112,33 @@ fn fisher_vector_product_is_the_hessian_of_the_mean_kl() {
     // ∇θ' KL(π_θ ‖ π_θ') by autodiff.
     let kl_grad = |theta_new: &[f64]| {
         let p = vec_to_params(policy.clone(), theta_new);
-        let kl = mean_kl(old_mean.clone(), old_log_std.clone(), p.mean_action(obs.clone()), p.log_std.val());
+        let kl = mean_kl(
+            old_mean.clone(),
+            old_log_std.clone(),
+            p.mean_action(obs.clone()),
+            p.log_std.val(),
+        );
         grads_to_vec(&p, &kl.backward())
     };
     let fvp = FisherVectorProduct::<Inner>::new(&policy.valid(), obs.clone().inner(), 0.0);
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let eps = 1e-5;
     for _ in 0..3 {
-        let v: Vec<f64> = (0..theta.len()).map(|_| rng.random_range(-1.0..1.0)).collect();
+        let v: Vec<f64> = (0..theta.len())
+            .map(|_| rng.random_range(-1.0..1.0))
+            .collect();
         let plus: Vec<f64> = theta.iter().zip(&v).map(|(t, d)| t + eps * d).collect();
         let minus: Vec<f64> = theta.iter().zip(&v).map(|(t, d)| t - eps * d).collect();
-        let hv: Vec<f64> = kl_grad(&plus).iter().zip(kl_grad(&minus)).map(|(a, b)| (a - b) / (2.0 * eps)).collect();
+        let hv: Vec<f64> = kl_grad(&plus)
+            .iter()
+            .zip(kl_grad(&minus))
+            .map(|(a, b)| (a - b) / (2.0 * eps))
+            .collect();
         let err = relative_error(&fvp.apply(&v), &hv);
-        assert!(err <= 1e-7, "F·v vs finite-difference Hessian of KL: relative error {err:e}");
+        assert!(
+            err <= 1e-7,
+            "F·v vs finite-difference Hessian of KL: relative error {err:e}"
+        );
     }
     // And the KL's gradient vanishes at θ' = θ (the old policy is the minimum).
     let g = kl_grad(&theta);
@@ -119,25 +149,40 @@ fn fisher_vector_product_is_the_hessian_of_the_mean_kl() {
 fn conjugate_gradient_solves_a_known_spd_system() {
     let n = 12;
     let mut rng = ChaCha8Rng::seed_from_u64(4);
-    let q: Vec<Vec<f64>> = (0..n).map(|_| (0..n).map(|_| rng.random_range(-1.0..1.0)).collect()).collect();
+    let q: Vec<Vec<f64>> = (0..n)
+        .map(|_| (0..n).map(|_| rng.random_range(-1.0..1.0)).collect())
+        .collect();
     // A = QᵀQ + I is symmetric positive definite.
     let a: Vec<Vec<f64>> = (0..n)
-        .map(|i| (0..n).map(|j| (0..n).map(|k| q[k][i] * q[k][j]).sum::<f64>() + f64::from(u8::from(i == j))).collect())
+        .map(|i| {
+            (0..n)
+                .map(|j| {
+                    (0..n).map(|k| q[k][i] * q[k][j]).sum::<f64>() + f64::from(u8::from(i == j))
+                })
+                .collect()
+        })
         .collect();
     let x_true: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
-    let b: Vec<f64> = (0..n).map(|i| (0..n).map(|j| a[i][j] * x_true[j]).sum()).collect();
+    let b: Vec<f64> = (0..n)
+        .map(|i| (0..n).map(|j| a[i][j] * x_true[j]).sum())
+        .collect();
     let mut calls = 0;
     let x = conjugate_gradient(
         |v| {
             calls += 1;
-            (0..n).map(|i| (0..n).map(|j| a[i][j] * v[j]).sum()).collect()
+            (0..n)
+                .map(|i| (0..n).map(|j| a[i][j] * v[j]).sum())
+                .collect()
         },
         &b,
         100,
         1e-20,
     );
     assert!(relative_error(&x, &x_true) < 1e-9, "{x:?}");
-    assert!(calls <= n + 2, "CG on an n×n SPD system converges in about n steps ({calls})");
+    assert!(
+        calls <= n + 2,
+        "CG on an n×n SPD system converges in about n steps ({calls})"
+    );
     // The reference's budget: 10 iterations.
     let mut calls = 0;
     conjugate_gradient(
@@ -149,7 +194,10 @@ fn conjugate_gradient_solves_a_known_spd_system() {
         10,
         1e-10,
     );
-    assert_eq!(calls, 1, "A = I is solved in one step, then the residual test stops it");
+    assert_eq!(
+        calls, 1,
+        "A = I is solved in one step, then the residual test stops it"
+    );
 }
 
 #[test]
@@ -158,7 +206,11 @@ fn gaussian_formulas_match_hand_computation() {
     let (policy, obs) = tiny_policy(&device);
     let mean = to_f64(policy.mean_action(obs.clone()));
     let log_std = to_f64(policy.log_std.val());
-    let actions: Vec<f64> = mean.iter().enumerate().map(|(k, m)| m + 0.3 * (k as f64).cos()).collect();
+    let actions: Vec<f64> = mean
+        .iter()
+        .enumerate()
+        .map(|(k, m)| m + 0.3 * (k as f64).cos())
+        .collect();
     let lp = to_f64(policy.log_prob(obs.clone(), from_f64(&actions, [7, 2], &device)));
     for i in 0..7 {
         let want: f64 = (0..2)
@@ -171,11 +223,19 @@ fn gaussian_formulas_match_hand_computation() {
         assert!((lp[i] - want).abs() < 1e-12, "row {i}: {} vs {want}", lp[i]);
     }
     let entropy = to_f64(policy.entropy())[0];
-    let want: f64 = log_std.iter().map(|l| l + 0.5 * (1.0 + (2.0 * std::f64::consts::PI).ln())).sum();
+    let want: f64 = log_std
+        .iter()
+        .map(|l| l + 0.5 * (1.0 + (2.0 * std::f64::consts::PI).ln()))
+        .sum();
     assert!((entropy - want).abs() < 1e-12);
     // KL: zero against itself; for 1-D Gaussians N(0,1) ‖ N(1, e²) = 1 + (1+1)/(2e²) − ½.
     let m = policy.mean_action(obs);
-    let kl_self = to_f64(mean_kl(m.clone(), policy.log_std.val(), m, policy.log_std.val()))[0];
+    let kl_self = to_f64(mean_kl(
+        m.clone(),
+        policy.log_std.val(),
+        m,
+        policy.log_std.val(),
+    ))[0];
     assert!(kl_self.abs() < 1e-15);
     let kl = to_f64(mean_kl(
         from_f64::<B, 2>(&[0.0], [1, 1], &device),
@@ -183,7 +243,10 @@ fn gaussian_formulas_match_hand_computation() {
         from_f64(&[1.0], [1, 1], &device),
         from_f64(&[1.0], [1], &device),
     ))[0];
-    assert!((kl - (1.0 + 2.0 / (2.0 * 1f64.exp().powi(2)) - 0.5)).abs() < 1e-15, "{kl}");
+    assert!(
+        (kl - (1.0 + 2.0 / (2.0 * 1f64.exp().powi(2)) - 0.5)).abs() < 1e-15,
+        "{kl}"
+    );
 }
 
 #[test]
@@ -191,7 +254,10 @@ fn flat_parameters_round_trip_and_follow_the_module_order() {
     let device = Default::default();
     let policy = PolicyConfig::new(11, 3).init::<B>(&device);
     let theta = params_to_vec(&policy);
-    assert_eq!(theta.len(), 11 * 128 + 128 + 128 * 128 + 128 + 128 * 3 + 3 + 3);
+    assert_eq!(
+        theta.len(),
+        11 * 128 + 128 + 128 * 128 + 128 + 128 * 3 + 3 + 3
+    );
     // The reference's init: output layer bias 0, log-std 0.
     assert!(theta[theta.len() - 6..].iter().all(|x| *x == 0.0));
     let shifted: Vec<f64> = theta.iter().map(|x| x + 0.25).collect();
@@ -212,8 +278,14 @@ fn every_parameter_of_a_fresh_policy_receives_a_gradient() {
     let mut pos = 0;
     for (i, layer) in policy.mean.layers.iter().enumerate() {
         let n = layer.weight.shape().num_elements();
-        assert!(g[pos..pos + n].iter().any(|x| *x != 0.0), "layer {i} weight has no gradient");
+        assert!(
+            g[pos..pos + n].iter().any(|x| *x != 0.0),
+            "layer {i} weight has no gradient"
+        );
         pos += n + layer.weight.dims()[1];
     }
-    assert!(g[pos..].iter().all(|x| *x != 0.0), "log_std has no gradient");
+    assert!(
+        g[pos..].iter().all(|x| *x != 0.0),
+        "log_std has no gradient"
+    );
 }
