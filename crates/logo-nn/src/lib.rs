@@ -22,6 +22,7 @@ pub use discriminator::{Discriminator, DiscriminatorConfig};
 pub use fisher::{FisherVectorProduct, conjugate_gradient, mean_kl};
 pub use mlp::{Mlp, MlpConfig};
 pub use policy::{GaussianPolicy, PolicyConfig};
+pub use torch_import::{ImportError, load_reference_policy};
 
 /// ndarray, float64: the default (the reference implementation computes in float64).
 pub type Cpu = burn::backend::NdArray<f64>;
