@@ -19,6 +19,8 @@ use serde::Serialize;
 pub enum BenchCommand {
     /// Env steps/s vs a raw mj_step loop (single thread), and the vectorised throughput.
     Envs(EnvBenchArgs),
+    /// Policy latency, forward+backward and F·v at a training batch, float64 and float32.
+    Nn(crate::bench_nn::NnBenchArgs),
 }
 
 #[derive(Args)]
@@ -70,10 +72,11 @@ struct EnvBenchReport {
 pub fn run(cmd: &BenchCommand) -> Result<()> {
     match cmd {
         BenchCommand::Envs(args) => bench_envs(args),
+        BenchCommand::Nn(args) => crate::bench_nn::run(args),
     }
 }
 
-fn median(mut x: Vec<f64>) -> f64 {
+pub fn median(mut x: Vec<f64>) -> f64 {
     x.sort_by(f64::total_cmp);
     let n = x.len();
     if n % 2 == 1 {

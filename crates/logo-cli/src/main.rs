@@ -1,6 +1,7 @@
 //! `logo`: the one command of logo-rl.
 
 mod bench;
+mod bench_nn;
 mod rollout;
 
 use std::process::ExitCode;
