@@ -3,7 +3,7 @@
 //! `observe` observation dimensions.
 
 use burn::module::Module;
-use burn::tensor::{Tensor, activation, backend::Backend};
+use burn::tensor::{Tensor, backend::Backend};
 use serde::{Deserialize, Serialize};
 
 use crate::mlp::{Mlp, MlpConfig};
@@ -58,11 +58,19 @@ impl<B: Backend> Discriminator<B> {
 
     /// D(s, a) in (0, 1).
     pub fn forward(&self, obs: Tensor<B, 2>, actions: Tensor<B, 2>) -> Tensor<B, 1> {
-        activation::sigmoid(self.logits(obs, actions))
+        softplus(self.logits(obs, actions).neg()).neg().exp()
     }
 
-    /// The guidance reward −log D(s, a), computed stably as softplus(−logit).
+    /// The guidance reward −log D(s, a) = softplus(−logit).
     pub fn guidance_reward(&self, obs: Tensor<B, 2>, actions: Tensor<B, 2>) -> Tensor<B, 1> {
-        activation::softplus(self.logits(obs, actions).neg(), 1.0)
+        softplus(self.logits(obs, actions).neg())
     }
+}
+
+/// log(1 + eˣ), stable for large |x|: max(x, 0) + log1p(e^{−|x|}).
+///
+/// Written here rather than taken from burn: burn 0.21's `sigmoid` computes in f32
+/// whatever the backend's precision, and its `softplus` overflows for large x.
+pub fn softplus<B: Backend, const D: usize>(x: Tensor<B, D>) -> Tensor<B, D> {
+    x.clone().clamp_min(0.0) + x.abs().neg().exp().log1p()
 }

@@ -53,11 +53,11 @@ fn explicit_fisher(policy: &GaussianPolicy<B>, obs: &Tensor<B, 2>, damping: f64)
     let std = to_f64(policy.log_std.val().exp());
     let mut f = vec![vec![0.0; p]; p];
     for i in 0..n {
-        for j in 0..act_dim {
+        for (j, sj) in std.iter().enumerate() {
             let mean = policy.mean_action(obs.clone());
             let entry = mean.slice([i..i + 1, j..j + 1]).sum();
             let row = grads_to_vec(policy, &entry.backward());
-            let w = 1.0 / (std[j] * std[j] * n as f64);
+            let w = 1.0 / (sj * sj * n as f64);
             for a in 0..p {
                 for b in 0..p {
                     f[a][b] += w * row[a] * row[b];
