@@ -1,0 +1,61 @@
+use std::path::{Path, PathBuf};
+
+use logo_data::{DataError, Demonstrations, read_npy};
+
+fn reference(name: &str) -> Option<PathBuf> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/logo-demos").join(name);
+    if p.exists() { Some(p) } else { eprintln!("skipped: {} is not there", p.display()); None }
+}
+
+#[test]
+fn the_logo_demonstrations_load_with_their_listed_shapes() {
+    for (file, rows, obs, act) in [
+        ("hopper.npy", 3869, 11, 3),
+        ("halfcheetah.npy", 5000, 17, 6),
+        ("walker2d.npy", 4584, 17, 6),
+        ("inverted_double_pendulum.npy", 183, 11, 1),
+    ] {
+        let Some(path) = reference(file) else { return };
+        let demos = Demonstrations::from_npy(&path, obs, act).unwrap();
+        assert_eq!(demos.len(), rows, "{file}");
+        assert!(demos.actions.iter().all(|a| a.abs() < 1.0), "{file}: actions strictly inside (-1, 1)");
+        let err = Demonstrations::from_npy(&path, obs + 1, act).unwrap_err().to_string();
+        assert!(err.contains(file) && err.contains(&format!("{} columns", obs + act)), "{err}");
+    }
+}
+
+fn npy_bytes(descr: &str, shape: &str, data: &[f64]) -> Vec<u8> {
+    let mut header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend((header.len() as u16).to_le_bytes());
+    out.extend(header.as_bytes());
+    out.extend(data.iter().flat_map(|v| v.to_le_bytes()));
+    out
+}
+
+#[test]
+fn bad_files_are_errors_naming_the_problem() {
+    let dir = std::env::temp_dir().join(format!("logo-npy-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("d.npy");
+    let good = npy_bytes("<f8", "(2, 3)", &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+    std::fs::write(&path, &good).unwrap();
+    assert_eq!(read_npy(&path).unwrap().shape, vec![2, 3]);
+    let demos = Demonstrations::from_npy(&path, 2, 1).unwrap();
+    assert_eq!((demos.obs, demos.actions), (vec![1.0, 2.0, 4.0, 5.0], vec![3.0, 6.0]));
+
+    std::fs::write(&path, npy_bytes("<f8", "(2, 3)", &[1.0, 2.0, f64::NAN, 4.0, 5.0, 6.0])).unwrap();
+    let err = Demonstrations::from_npy(&path, 2, 1).unwrap_err();
+    assert!(matches!(err, DataError::NonFinite { row: 0, column: 2, field: "action", .. }), "{err}");
+    std::fs::write(&path, npy_bytes("<f4", "(2, 3)", &[])).unwrap();
+    assert!(read_npy(&path).unwrap_err().to_string().contains("'<f4'"));
+    // Every truncation is an error, never a panic.
+    for n in 0..good.len() {
+        std::fs::write(&path, &good[..n]).unwrap();
+        assert!(read_npy(&path).is_err(), "truncated to {n} bytes");
+    }
+}
