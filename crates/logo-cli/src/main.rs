@@ -3,6 +3,7 @@
 mod bench;
 mod bench_nn;
 mod rollout;
+mod train;
 
 use std::process::ExitCode;
 
@@ -23,6 +24,8 @@ struct Cli {
 enum Command {
     /// List the environment ids with their dimensions.
     Envs,
+    /// Train TRPO or LOGO from a TOML config (configs/).
+    Train(train::TrainArgs),
     /// Run episodes with a fixed (random or zero) policy and print dense and sparse returns.
     Rollout(rollout::RolloutArgs),
     /// Measure throughput (see docs/benchmarks.md).
@@ -35,6 +38,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Envs => rollout::list_envs(),
         Command::Rollout(args) => rollout::run(&args),
+        Command::Train(args) => train::run(&args),
         Command::Bench(cmd) => bench::run(&cmd),
     };
     match result {

@@ -1,0 +1,200 @@
+//! `logo train`'s TOML config. Unknown keys and wrong types are errors naming the file
+//! and the key; paths are relative to the config file's folder.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::critic::CriticKind;
+use crate::trpo::PolicyStepConfig;
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrainConfig {
+    /// Training env id, e.g. `SparseInvertedDoublePendulum-v4`.
+    pub env: String,
+    /// Evaluation env id; default: `env` without the `Sparse` prefix (the dense task).
+    pub eval_env: Option<String>,
+    #[serde(default)]
+    pub seed: u64,
+    pub iterations: usize,
+    /// Whole episodes until at least this many steps per iteration.
+    pub samples_per_iter: usize,
+    #[serde(default = "default_num_envs")]
+    pub num_envs: usize,
+    #[serde(default = "default_threads")]
+    pub threads: usize,
+    #[serde(default = "default_gamma")]
+    pub gamma: f64,
+    #[serde(default = "default_gae_lambda")]
+    pub gae_lambda: f64,
+    /// KL bound δ of the improvement step.
+    #[serde(default = "default_max_kl")]
+    pub max_kl: f64,
+    #[serde(default = "default_hidden")]
+    pub policy_hidden: Vec<usize>,
+    #[serde(default)]
+    pub log_std_init: f64,
+    #[serde(default = "default_hidden")]
+    pub critic_hidden: Vec<usize>,
+    #[serde(default = "default_critic")]
+    pub critic: CriticKind,
+    #[serde(default = "default_critic_iters")]
+    pub critic_iters: usize,
+    #[serde(default = "default_critic_l2")]
+    pub critic_l2: f64,
+    /// The reference's GAE across time-limit boundaries (see `gae.rs`).
+    #[serde(default)]
+    pub cross_episode_bootstrap: bool,
+    #[serde(default = "default_one")]
+    pub eval_every: usize,
+    #[serde(default = "default_eval_steps")]
+    pub eval_steps: usize,
+    #[serde(default = "default_checkpoint_every")]
+    pub checkpoint_every: usize,
+    /// Start from this policy: a LOGO reference `.pt` (the reference's `--init-BC`).
+    pub init_policy: Option<PathBuf>,
+    #[serde(default)]
+    pub policy_step: PolicyStepConfig,
+    /// LOGO's guidance; absent: plain TRPO.
+    pub guidance: Option<GuidanceConfig>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GuidanceConfig {
+    /// Demonstrations, `[obs ‖ action]` rows (`.npy`), for the discriminator.
+    pub demos: Option<PathBuf>,
+    /// A known behaviour policy (`.pt`): C = log(π_k / π_b) replaces the discriminator.
+    pub behaviour_policy: Option<PathBuf>,
+    pub delta0: f64,
+    pub alpha: f64,
+    /// K_δ: iterations before δ_k may shrink.
+    pub warmup: usize,
+    /// Observation dims the discriminator sees (censored setting); default: all.
+    pub observe: Option<usize>,
+    #[serde(default = "default_disc_lr")]
+    pub discriminator_lr: f64,
+    #[serde(default = "default_hidden")]
+    pub discriminator_hidden: Vec<usize>,
+}
+
+fn default_num_envs() -> usize {
+    8
+}
+fn default_threads() -> usize {
+    2
+}
+fn default_gamma() -> f64 {
+    0.99
+}
+fn default_gae_lambda() -> f64 {
+    0.95
+}
+fn default_max_kl() -> f64 {
+    0.01
+}
+fn default_hidden() -> Vec<usize> {
+    vec![128, 128]
+}
+fn default_critic() -> CriticKind {
+    CriticKind::Single
+}
+fn default_critic_iters() -> usize {
+    25
+}
+fn default_critic_l2() -> f64 {
+    1e-3
+}
+fn default_one() -> usize {
+    1
+}
+fn default_eval_steps() -> usize {
+    2048
+}
+fn default_checkpoint_every() -> usize {
+    10
+}
+fn default_disc_lr() -> f64 {
+    3e-4
+}
+
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {message}", path.display())]
+pub struct ConfigError {
+    pub path: PathBuf,
+    pub message: String,
+}
+
+impl TrainConfig {
+    /// Reads and checks a config; relative paths inside become relative to its folder.
+    pub fn load(path: &Path) -> Result<Self, ConfigError> {
+        let err = |message: String| ConfigError { path: path.to_path_buf(), message };
+        let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+        let mut config: TrainConfig = toml::from_str(&text).map_err(|e| err(e.to_string().trim_end().replace('\n', " ")))?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let resolve = |p: &mut PathBuf| {
+            if p.is_relative() {
+                *p = base.join(&*p);
+            }
+        };
+        if let Some(p) = config.init_policy.as_mut() {
+            resolve(p);
+        }
+        if let Some(g) = config.guidance.as_mut() {
+            g.demos.as_mut().map(resolve);
+            g.behaviour_policy.as_mut().map(resolve);
+        }
+        config.validate().map_err(err)?;
+        Ok(config)
+    }
+
+    fn validate(&self) -> Result<(), String> {
+        let positive = [
+            ("iterations", self.iterations),
+            ("samples_per_iter", self.samples_per_iter),
+            ("num_envs", self.num_envs),
+            ("threads", self.threads),
+            ("eval_every", self.eval_every),
+            ("checkpoint_every", self.checkpoint_every),
+        ];
+        if let Some((key, _)) = positive.iter().find(|(_, v)| *v == 0) {
+            return Err(format!("{key} must be at least 1"));
+        }
+        if !(self.max_kl > 0.0) {
+            return Err(format!("max_kl must be > 0, got {}", self.max_kl));
+        }
+        for (key, v) in [("gamma", self.gamma), ("gae_lambda", self.gae_lambda)] {
+            if !(0.0..=1.0).contains(&v) {
+                return Err(format!("{key} must be in [0, 1], got {v}"));
+            }
+        }
+        if let Some(p) = &self.init_policy
+            && !p.is_file()
+        {
+            return Err(format!("init_policy: file {} not found", p.display()));
+        }
+        if let Some(g) = &self.guidance {
+            match (&g.demos, &g.behaviour_policy) {
+                (None, None) => return Err("guidance: set demos (a discriminator) or behaviour_policy".into()),
+                (Some(_), Some(_)) => return Err("guidance: set demos or behaviour_policy, not both".into()),
+                _ => {}
+            }
+            for (key, p) in [("guidance.demos", &g.demos), ("guidance.behaviour_policy", &g.behaviour_policy)] {
+                if let Some(p) = p
+                    && !p.is_file()
+                {
+                    return Err(format!("{key}: file {} not found", p.display()));
+                }
+            }
+            if !(g.delta0 > 0.0) || !(g.alpha > 0.0 && g.alpha <= 1.0) {
+                return Err(format!("guidance: delta0 must be > 0 and alpha in (0, 1], got {} and {}", g.delta0, g.alpha));
+            }
+        }
+        Ok(())
+    }
+
+    pub fn eval_env_id(&self) -> String {
+        self.eval_env.clone().unwrap_or_else(|| self.env.strip_prefix("Sparse").unwrap_or(&self.env).to_string())
+    }
+}

@@ -1,0 +1,327 @@
+//! One LOGO iteration, top to bottom (Algorithm 1 of the paper, as the reference runs it):
+//!
+//! 1. collect whole episodes with π_k (sparse rewards);
+//! 2. env critic: GAE advantages with the current V, then fit V to the returns;
+//! 3. improvement step: TRPO on the normalised advantages, KL ≤ δ → π_{k+½};
+//! 4. δ_k schedule on the batch's mean sparse return;
+//! 5. guidance (while δ_k > floor): r_C = −log D(s,a) from last iteration's D (or
+//!    log π_b − log π_k), guidance critic and GAE, a second TRPO step on the same batch
+//!    with the ratio against π_k and KL ≤ δ_k → π_{k+1}; then one discriminator update;
+//! 6. evaluation on the dense env with the mean action; metrics; checkpoint.
+//!
+//! Without `[guidance]` in the config it is plain TRPO.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use burn::module::AutodiffModule;
+use burn::tensor::Tensor;
+use burn::tensor::backend::AutodiffBackend;
+use logo_data::Demonstrations;
+use logo_envs::{Env, EnvFactory, EnvOptions, VecEnv};
+use logo_nn::flat::{from_f64, to_f64};
+use logo_nn::{Checkpoint, CheckpointMeta, DiscriminatorConfig, GaussianPolicy, PolicyConfig, load_reference_policy};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::config::TrainConfig;
+use crate::critic::Critic;
+use crate::gae::{GaeInput, gae, normalise};
+use crate::guidance::{DeltaSchedule, DiscriminatorTrainer, behaviour_rewards};
+use crate::rollout::{Batch, collect};
+use crate::trpo::{StepData, trpo_step};
+
+/// Anything that stops a run, as one message naming its cause.
+pub type TrainError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Where r_C comes from.
+enum GuidanceSignal<B: AutodiffBackend> {
+    Discriminator(DiscriminatorTrainer<B>),
+    Behaviour(GaussianPolicy<B::InnerBackend>),
+}
+
+struct Guidance<B: AutodiffBackend> {
+    signal: GuidanceSignal<B>,
+    critic: Critic<B>,
+    schedule: DeltaSchedule,
+}
+
+/// One row of `metrics.csv`.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct IterationMetrics {
+    pub iteration: usize,
+    pub samples: usize,
+    pub wall_s: f64,
+    pub episodes: usize,
+    pub train_sparse_return: f64,
+    pub train_dense_return: f64,
+    /// Mean dense return of the deterministic policy (NaN when not evaluated).
+    pub eval_dense_return: f64,
+    pub kl: f64,
+    pub guidance_kl: f64,
+    pub delta_k: f64,
+    pub critic_loss: f64,
+    pub disc_loss: f64,
+}
+
+const CSV_HEADER: &str = "iteration,samples,wall_s,episodes,train_sparse_return,train_dense_return,eval_dense_return,kl,guidance_kl,delta_k,critic_loss,disc_loss";
+
+pub struct Trainer<B: AutodiffBackend> {
+    pub config: TrainConfig,
+    out_dir: PathBuf,
+    venv: VecEnv,
+    eval_env: Box<dyn Env>,
+    policy: GaussianPolicy<B>,
+    critic: Critic<B>,
+    guidance: Option<Guidance<B>>,
+    rng: ChaCha8Rng,
+    iteration: usize,
+    samples: usize,
+    started: Instant,
+    device: B::Device,
+}
+
+impl<B: AutodiffBackend> Trainer<B> {
+    pub fn new(config: TrainConfig, out_dir: &Path) -> Result<Self, TrainError> {
+        let device = B::Device::default();
+        B::seed(&device, config.seed);
+        let factory = EnvFactory::new(&config.env, &EnvOptions::default())?;
+        let spec = factory.spec().clone();
+        let venv = VecEnv::new(&factory, config.num_envs, config.threads, config.seed)?;
+        let eval_env = EnvFactory::new(&config.eval_env_id(), &EnvOptions::default())?.build();
+        if eval_env.spec().obs_dim != spec.obs_dim || eval_env.spec().act_dim != spec.act_dim {
+            return Err(format!("eval_env {} does not have the dims of env {}", eval_env.spec().id, spec.id).into());
+        }
+        let policy = match &config.init_policy {
+            Some(path) => {
+                let p = load_reference_policy::<B>(path, &device)?;
+                if (p.obs_dim(), p.act_dim()) != (spec.obs_dim, spec.act_dim) {
+                    return Err(format!(
+                        "init_policy {}: obs/action dims ({}, {}) do not match {} ({}, {})",
+                        path.display(), p.obs_dim(), p.act_dim(), spec.id, spec.obs_dim, spec.act_dim
+                    )
+                    .into());
+                }
+                p
+            }
+            None => PolicyConfig {
+                obs_dim: spec.obs_dim,
+                act_dim: spec.act_dim,
+                hidden: config.policy_hidden.clone(),
+                log_std_init: config.log_std_init,
+            }
+            .init(&device),
+        };
+        let critic = Critic::new(config.critic, spec.obs_dim, &config.critic_hidden, &device);
+        let guidance = match &config.guidance {
+            None => None,
+            Some(g) => {
+                let signal = if let Some(path) = &g.behaviour_policy {
+                    GuidanceSignal::Behaviour(load_reference_policy(path, &device)?)
+                } else {
+                    let path = g.demos.as_ref().expect("validated: demos or behaviour_policy");
+                    let demos = Demonstrations::from_npy(path, spec.obs_dim, spec.act_dim)
+                        .map_err(|e| format!("guidance.demos: {e}"))?;
+                    let observe = g.observe.unwrap_or(spec.obs_dim);
+                    if observe == 0 || observe > spec.obs_dim {
+                        return Err(format!("guidance.observe must be in 1..={}, got {observe}", spec.obs_dim).into());
+                    }
+                    let dc = DiscriminatorConfig { observe, act_dim: spec.act_dim, hidden: g.discriminator_hidden.clone() };
+                    GuidanceSignal::Discriminator(DiscriminatorTrainer::new(&dc, &demos, g.discriminator_lr, &device))
+                };
+                Some(Guidance {
+                    signal,
+                    critic: Critic::new(config.critic, spec.obs_dim, &config.critic_hidden, &device),
+                    schedule: DeltaSchedule::new(g.delta0, g.alpha, g.warmup),
+                })
+            }
+        };
+        std::fs::create_dir_all(out_dir)?;
+        std::fs::write(out_dir.join("config.toml"), toml::to_string(&config)?)?;
+        let mut csv = std::fs::File::create(out_dir.join("metrics.csv"))?;
+        writeln!(csv, "{CSV_HEADER}")?;
+        Ok(Self {
+            rng: ChaCha8Rng::seed_from_u64(config.seed),
+            config,
+            out_dir: out_dir.to_path_buf(),
+            venv,
+            eval_env,
+            policy,
+            critic,
+            guidance,
+            iteration: 0,
+            samples: 0,
+            started: Instant::now(),
+            device,
+        })
+    }
+
+    pub fn iteration(&self) -> usize {
+        self.iteration
+    }
+
+    pub fn done(&self) -> bool {
+        self.iteration >= self.config.iterations
+    }
+
+    pub fn policy(&self) -> &GaussianPolicy<B> {
+        &self.policy
+    }
+
+    /// GAE for one reward stream with `critic`, then fits `critic` to the returns.
+    /// Returns the normalised advantages and the critic's final loss.
+    fn advantages(&self, critic: &mut Critic<B>, batch: &Batch, rewards: &[f64], obs: &Tensor<B, 2>) -> (Vec<f64>, f64) {
+        let values = critic.values(obs.clone().inner());
+        let mut truncation_values = vec![0.0; batch.len()];
+        if !batch.truncations.is_empty() {
+            let rows: Vec<f64> = batch.truncations.iter().flat_map(|(_, o)| o.iter().copied()).collect();
+            let v = critic.values(from_f64(&rows, [batch.truncations.len(), batch.obs_dim], &self.device));
+            for ((t, _), value) in batch.truncations.iter().zip(v) {
+                truncation_values[*t] = value;
+            }
+        }
+        let input = GaeInput {
+            rewards,
+            values: &values,
+            terminated: &batch.terminated,
+            episode_end: &batch.episode_end,
+            truncation_values: &truncation_values,
+        };
+        let (adv, returns) = gae(&input, self.config.gamma, self.config.gae_lambda, self.config.cross_episode_bootstrap);
+        let losses = critic.fit(obs, &returns, self.config.critic_l2, self.config.critic_iters);
+        (normalise(&adv), losses.iter().sum::<f64>() / losses.len() as f64)
+    }
+
+    /// Runs one iteration and appends its row to `metrics.csv`.
+    pub fn step(&mut self) -> Result<IterationMetrics, TrainError> {
+        let k = self.iteration;
+        // 1. Collect with π_k.
+        let batch = collect(&mut self.venv, &self.policy.valid(), &mut self.rng, self.config.samples_per_iter)?;
+        let n = batch.len();
+        let obs = from_f64::<B, 2>(&batch.obs, [n, batch.obs_dim], &self.device);
+        let actions = from_f64::<B, 2>(&batch.actions, [n, batch.act_dim], &self.device);
+        let logp_old = Tensor::from_inner(self.policy.valid().log_prob(obs.clone().inner(), actions.clone().inner()));
+        let data = StepData { obs: obs.clone(), actions: actions.clone(), logp_old: logp_old.clone() };
+
+        // 2-3. Env critic, improvement step.
+        let mut critic = std::mem::replace(&mut self.critic, Critic { nets: Vec::new() });
+        let (adv, critic_loss) = self.advantages(&mut critic, &batch, &batch.rewards, &obs);
+        self.critic = critic;
+        let (policy, improvement) = trpo_step(self.policy.clone(), &data, &adv, self.config.max_kl, &self.config.policy_step);
+        self.policy = policy;
+
+        // 4-5. δ_k, guidance step, discriminator.
+        let (mut guidance_kl, mut delta_k, mut disc_loss) = (0.0, 0.0, f64::NAN);
+        if let Some(mut g) = self.guidance.take() {
+            g.schedule.update(k, batch.mean_return());
+            delta_k = g.schedule.delta;
+            if g.schedule.guidance_on() {
+                let rewards = match &g.signal {
+                    GuidanceSignal::Discriminator(d) => d.rewards(obs.clone(), actions.clone()),
+                    GuidanceSignal::Behaviour(pi_b) => behaviour_rewards(pi_b, &logp_old, &obs, &actions),
+                };
+                let (adv_c, _) = self.advantages(&mut g.critic, &batch, &rewards, &obs);
+                let (policy, stats) = trpo_step(self.policy.clone(), &data, &adv_c, delta_k, &self.config.policy_step);
+                self.policy = policy;
+                guidance_kl = stats.kl;
+                if let GuidanceSignal::Discriminator(d) = &mut g.signal {
+                    disc_loss = d.update(obs.clone(), actions.clone());
+                }
+            }
+            self.guidance = Some(g);
+        }
+
+        // 6. Evaluate, record.
+        self.iteration += 1;
+        self.samples += n;
+        let eval = if k % self.config.eval_every == 0 || self.done() { self.evaluate()? } else { f64::NAN };
+        let metrics = IterationMetrics {
+            iteration: k,
+            samples: self.samples,
+            wall_s: self.started.elapsed().as_secs_f64(),
+            episodes: batch.episode_returns.len(),
+            train_sparse_return: batch.mean_return(),
+            train_dense_return: batch.mean_dense_return(),
+            eval_dense_return: eval,
+            kl: improvement.kl,
+            guidance_kl,
+            delta_k,
+            critic_loss,
+            disc_loss,
+        };
+        self.append_csv(&metrics)?;
+        if self.iteration % self.config.checkpoint_every == 0 || self.done() {
+            self.save_checkpoint(&self.out_dir.join("checkpoint.safetensors"))?;
+        }
+        Ok(metrics)
+    }
+
+    /// Mean dense return of the mean-action policy over whole episodes of at least
+    /// `eval_steps` steps in all.
+    pub fn evaluate(&mut self) -> Result<f64, TrainError> {
+        let policy = self.policy.valid();
+        let spec = self.eval_env.spec().clone();
+        let mut obs = vec![0.0; spec.obs_dim];
+        let (mut steps, mut returns) = (0, Vec::new());
+        while steps < self.config.eval_steps {
+            // Fixed evaluation seeds: every evaluation sees the same initial states.
+            self.eval_env.reset(Some(1_000_000 + self.config.seed * 1000 + returns.len() as u64), &mut obs);
+            let mut total = 0.0;
+            loop {
+                let action = to_f64(policy.mean_action(from_f64(&obs, [1, spec.obs_dim], &self.device)));
+                let step = self.eval_env.step(&action, &mut obs)?;
+                total += step.info.dense_reward;
+                steps += 1;
+                if step.done() {
+                    break;
+                }
+            }
+            returns.push(total);
+        }
+        Ok(returns.iter().sum::<f64>() / returns.len() as f64)
+    }
+
+    fn append_csv(&self, m: &IterationMetrics) -> std::io::Result<()> {
+        let mut f = std::fs::OpenOptions::new().append(true).open(self.out_dir.join("metrics.csv"))?;
+        writeln!(
+            f,
+            "{},{},{:.3},{},{},{},{},{},{},{},{},{}",
+            m.iteration,
+            m.samples,
+            m.wall_s,
+            m.episodes,
+            m.train_sparse_return,
+            m.train_dense_return,
+            m.eval_dense_return,
+            m.kl,
+            m.guidance_kl,
+            m.delta_k,
+            m.critic_loss,
+            m.disc_loss
+        )
+    }
+
+    pub fn save_checkpoint(&self, path: &Path) -> Result<(), TrainError> {
+        let spec = self.venv.spec();
+        let algorithm = if self.guidance.is_some() { "logo" } else { "trpo" };
+        let mut meta = CheckpointMeta::new(&spec.id, spec.obs_dim, spec.act_dim, algorithm);
+        let hidden = |layers: usize| self.policy.mean.layers[..layers].iter().map(|l| l.weight.dims()[1]).collect();
+        meta.networks.insert("policy".into(), hidden(self.policy.mean.layers.len() - 1));
+        meta.networks.insert("critic".into(), self.config.critic_hidden.clone());
+        meta.iteration = self.iteration as u64;
+        meta.seed = self.config.seed;
+        meta.extra = serde_json::json!({ "samples": self.samples, "config": self.config });
+        let mut ckpt = Checkpoint::new(meta);
+        ckpt.insert("policy", &self.policy);
+        ckpt.insert("critic", &self.critic.nets);
+        if let Some(g) = &self.guidance {
+            ckpt.insert("guidance_critic", &g.critic.nets);
+            if let GuidanceSignal::Discriminator(d) = &g.signal {
+                ckpt.insert("discriminator", &d.disc);
+            }
+        }
+        ckpt.save(path)?;
+        Ok(())
+    }
+}
