@@ -1,11 +1,14 @@
 //! A critic for one reward stream: one value net, or two with baseline min(V1, V2)
 //! (clipped double-Q, the seed paper's "CDQ"), each fitted to the GAE returns by L-BFGS
 //! on MSE + l2·‖θ‖² (the reference: 25 iterations, l2 = 1e-3).
+//!
+//! The gradient is the MLP's hand-written reverse pass over one forward trace, on a plain
+//! (no-autodiff) backend: no graph to build, and the fast tanh of the ndarray backend.
+//! A test checks it against burn's autodiff.
 
-use burn::module::AutodiffModule;
 use burn::tensor::Tensor;
-use burn::tensor::backend::AutodiffBackend;
-use logo_nn::flat::{from_f64, grads_to_vec, params_to_vec, to_f64, vec_to_params};
+use burn::tensor::backend::Backend;
+use logo_nn::flat::{flatten_layers, from_f64, params_to_vec, to_f64, vec_to_params};
 use logo_nn::{ValueNet, ValueNetConfig};
 use serde::{Deserialize, Serialize};
 
@@ -20,12 +23,29 @@ pub enum CriticKind {
     TwinMin,
 }
 
-pub struct Critic<B: AutodiffBackend> {
+pub struct Critic<B: Backend> {
     /// One net, or two for `TwinMin`.
     pub nets: Vec<ValueNet<B>>,
 }
 
-impl<B: AutodiffBackend> Critic<B> {
+/// MSE(V(obs), target) + l2·‖θ‖² and its gradient, for `net` with parameters `theta`.
+pub fn value_loss_and_grad<B: Backend>(
+    net: &ValueNet<B>,
+    obs: Tensor<B, 2>,
+    target: Tensor<B, 2>,
+    theta: &[f64],
+    l2: f64,
+) -> (f64, Vec<f64>) {
+    let n = obs.dims()[0] as f64;
+    let (inputs, out) = net.net.forward_trace(obs);
+    let diff = out - target;
+    let mse = to_f64((diff.clone() * diff.clone()).sum())[0] / n;
+    let mut grad = flatten_layers(net.net.vjp(&inputs, diff.mul_scalar(2.0 / n)));
+    grad.iter_mut().zip(theta).for_each(|(g, t)| *g += 2.0 * l2 * t);
+    (mse + l2 * theta.iter().map(|t| t * t).sum::<f64>(), grad)
+}
+
+impl<B: Backend> Critic<B> {
     pub fn new(kind: CriticKind, obs_dim: usize, hidden: &[usize], device: &B::Device) -> Self {
         let config = ValueNetConfig { obs_dim, hidden: hidden.to_vec() };
         let count = match kind {
@@ -36,29 +56,23 @@ impl<B: AutodiffBackend> Critic<B> {
     }
 
     /// The baseline V(s) for each row: the (minimum over the) value net(s).
-    pub fn values(&self, obs: Tensor<B::InnerBackend, 2>) -> Vec<f64> {
+    pub fn values(&self, obs: Tensor<B, 2>) -> Vec<f64> {
         self.nets
             .iter()
-            .map(|net| to_f64(net.valid().forward(obs.clone())))
+            .map(|net| to_f64(net.forward(obs.clone())))
             .reduce(|a, b| a.iter().zip(&b).map(|(x, y)| x.min(*y)).collect())
             .expect("a critic has at least one net")
     }
 
     /// Fits every net to `returns`; returns the final loss of each.
     pub fn fit(&mut self, obs: &Tensor<B, 2>, returns: &[f64], l2: f64, iterations: usize) -> Vec<f64> {
-        let device = obs.device();
-        let target = from_f64::<B, 1>(returns, [returns.len()], &device);
+        let target = from_f64::<B, 2>(returns, [returns.len(), 1], &obs.device());
         let mut losses = Vec::new();
         for net in &mut self.nets {
             let template = net.clone();
             let objective = |theta: &[f64]| {
                 let candidate = vec_to_params(template.clone(), theta);
-                let diff = candidate.forward(obs.clone()) - target.clone();
-                let mse = (diff.clone() * diff).mean();
-                let mut grad = grads_to_vec(&candidate, &mse.backward());
-                let reg: f64 = theta.iter().map(|t| t * t).sum();
-                grad.iter_mut().zip(theta).for_each(|(g, t)| *g += 2.0 * l2 * t);
-                (to_f64(mse.inner())[0] + l2 * reg, grad)
+                value_loss_and_grad(&candidate, obs.clone(), target.clone(), theta, l2)
             };
             let result = lbfgs::minimize(objective, params_to_vec(&template), iterations);
             *net = vec_to_params(template, &result.x);

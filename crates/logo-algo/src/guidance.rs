@@ -6,7 +6,7 @@ use burn::module::AutodiffModule;
 use burn::optim::adaptor::OptimizerAdaptor;
 use burn::optim::{Adam, AdamConfig, GradientsParams, Optimizer};
 use burn::tensor::Tensor;
-use burn::tensor::backend::AutodiffBackend;
+use burn::tensor::backend::{AutodiffBackend, Backend};
 use logo_data::Demonstrations;
 use logo_nn::discriminator::softplus;
 use logo_nn::flat::{from_f64, to_f64};
@@ -77,8 +77,8 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
     }
 
     /// r_C = −log D(s, a) for each pair (higher where the pair looks like the demos).
-    pub fn rewards(&self, obs: Tensor<B, 2>, actions: Tensor<B, 2>) -> Vec<f64> {
-        to_f64(self.disc.valid().guidance_reward(obs.inner(), actions.inner()))
+    pub fn rewards(&self, obs: Tensor<B::InnerBackend, 2>, actions: Tensor<B::InnerBackend, 2>) -> Vec<f64> {
+        to_f64(self.disc.valid().guidance_reward(obs, actions))
     }
 
     /// One Adam step; returns the loss before it.
@@ -95,13 +95,13 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
 }
 
 /// r_C = −C = log π_b(a|s) − log π_k(a|s) when the behaviour policy is known.
-pub fn behaviour_rewards<B: AutodiffBackend>(
-    behaviour: &GaussianPolicy<B::InnerBackend>,
+pub fn behaviour_rewards<B: Backend>(
+    behaviour: &GaussianPolicy<B>,
     logp_k: &Tensor<B, 1>,
     obs: &Tensor<B, 2>,
     actions: &Tensor<B, 2>,
 ) -> Vec<f64> {
-    to_f64(behaviour.log_prob(obs.clone().inner(), actions.clone().inner()) - logp_k.clone().inner())
+    to_f64(behaviour.log_prob(obs.clone(), actions.clone()) - logp_k.clone())
 }
 
 #[cfg(test)]

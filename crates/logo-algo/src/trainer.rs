@@ -15,7 +15,6 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use burn::module::AutodiffModule;
 use burn::tensor::Tensor;
 use burn::tensor::backend::AutodiffBackend;
 use logo_data::Demonstrations;
@@ -43,9 +42,14 @@ enum GuidanceSignal<B: AutodiffBackend> {
 
 struct Guidance<B: AutodiffBackend> {
     signal: GuidanceSignal<B>,
-    critic: Critic<B>,
+    critic: Critic<B::InnerBackend>,
     schedule: DeltaSchedule,
 }
+
+/// The backend without autodiff: policy, critics, rollouts and policy steps run on it
+/// (their gradients are hand-written reverse passes, tested against autodiff); only the
+/// discriminator's Adam step uses the autodiff backend.
+type Inner<B> = <B as AutodiffBackend>::InnerBackend;
 
 /// One row of `metrics.csv`.
 #[derive(Debug, Clone, Default, serde::Serialize)]
@@ -63,17 +67,30 @@ pub struct IterationMetrics {
     pub delta_k: f64,
     pub critic_loss: f64,
     pub disc_loss: f64,
+    /// Seconds spent in each phase of the iteration.
+    pub time: PhaseTimes,
 }
 
-const CSV_HEADER: &str = "iteration,samples,wall_s,episodes,train_sparse_return,train_dense_return,eval_dense_return,kl,guidance_kl,delta_k,critic_loss,disc_loss";
+/// Where an iteration's time goes.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct PhaseTimes {
+    pub sampling: f64,
+    pub critics: f64,
+    pub policy_step: f64,
+    pub guidance: f64,
+    pub discriminator: f64,
+    pub evaluation: f64,
+}
+
+const CSV_HEADER: &str = "iteration,samples,wall_s,episodes,train_sparse_return,train_dense_return,eval_dense_return,kl,guidance_kl,delta_k,critic_loss,disc_loss,t_sampling,t_critics,t_policy_step,t_guidance,t_discriminator,t_evaluation";
 
 pub struct Trainer<B: AutodiffBackend> {
     pub config: TrainConfig,
     out_dir: PathBuf,
     venv: VecEnv,
     eval_env: Box<dyn Env>,
-    policy: GaussianPolicy<B>,
-    critic: Critic<B>,
+    policy: GaussianPolicy<Inner<B>>,
+    critic: Critic<Inner<B>>,
     guidance: Option<Guidance<B>>,
     rng: ChaCha8Rng,
     iteration: usize,
@@ -95,7 +112,7 @@ impl<B: AutodiffBackend> Trainer<B> {
         }
         let policy = match &config.init_policy {
             Some(path) => {
-                let p = load_reference_policy::<B>(path, &device)?;
+                let p = load_reference_policy::<Inner<B>>(path, &device)?;
                 if (p.obs_dim(), p.act_dim()) != (spec.obs_dim, spec.act_dim) {
                     return Err(format!(
                         "init_policy {}: obs/action dims ({}, {}) do not match {} ({}, {})",
@@ -165,14 +182,14 @@ impl<B: AutodiffBackend> Trainer<B> {
         self.iteration >= self.config.iterations
     }
 
-    pub fn policy(&self) -> &GaussianPolicy<B> {
+    pub fn policy(&self) -> &GaussianPolicy<Inner<B>> {
         &self.policy
     }
 
     /// GAE for one reward stream with `critic`, then fits `critic` to the returns.
     /// Returns the normalised advantages and the critic's final loss.
-    fn advantages(&self, critic: &mut Critic<B>, batch: &Batch, rewards: &[f64], obs: &Tensor<B, 2>) -> (Vec<f64>, f64) {
-        let values = critic.values(obs.clone().inner());
+    fn advantages(&self, critic: &mut Critic<Inner<B>>, batch: &Batch, rewards: &[f64], obs: &Tensor<Inner<B>, 2>) -> (Vec<f64>, f64) {
+        let values = critic.values(obs.clone());
         let mut truncation_values = vec![0.0; batch.len()];
         if !batch.truncations.is_empty() {
             let rows: Vec<f64> = batch.truncations.iter().flat_map(|(_, o)| o.iter().copied()).collect();
@@ -196,20 +213,31 @@ impl<B: AutodiffBackend> Trainer<B> {
     /// Runs one iteration and appends its row to `metrics.csv`.
     pub fn step(&mut self) -> Result<IterationMetrics, TrainError> {
         let k = self.iteration;
+        let mut time = PhaseTimes::default();
+        let mut clock = Instant::now();
+        let mut lap = || {
+            let now = Instant::now();
+            let dt = (now - clock).as_secs_f64();
+            clock = now;
+            dt
+        };
         // 1. Collect with π_k.
-        let batch = collect(&mut self.venv, &self.policy.valid(), &mut self.rng, self.config.samples_per_iter)?;
+        let batch = collect(&mut self.venv, &self.policy, &mut self.rng, self.config.samples_per_iter)?;
+        time.sampling = lap();
         let n = batch.len();
-        let obs = from_f64::<B, 2>(&batch.obs, [n, batch.obs_dim], &self.device);
-        let actions = from_f64::<B, 2>(&batch.actions, [n, batch.act_dim], &self.device);
-        let logp_old = Tensor::from_inner(self.policy.valid().log_prob(obs.clone().inner(), actions.clone().inner()));
+        let obs = from_f64::<Inner<B>, 2>(&batch.obs, [n, batch.obs_dim], &self.device);
+        let actions = from_f64::<Inner<B>, 2>(&batch.actions, [n, batch.act_dim], &self.device);
+        let logp_old = self.policy.log_prob(obs.clone(), actions.clone());
         let data = StepData { obs: obs.clone(), actions: actions.clone(), logp_old: logp_old.clone() };
 
         // 2-3. Env critic, improvement step.
         let mut critic = std::mem::replace(&mut self.critic, Critic { nets: Vec::new() });
         let (adv, critic_loss) = self.advantages(&mut critic, &batch, &batch.rewards, &obs);
         self.critic = critic;
+        time.critics += lap();
         let (policy, improvement) = trpo_step(self.policy.clone(), &data, &adv, self.config.max_kl, &self.config.policy_step);
         self.policy = policy;
+        time.policy_step = lap();
 
         // 4-5. δ_k, guidance step, discriminator.
         let (mut guidance_kl, mut delta_k, mut disc_loss) = (0.0, 0.0, f64::NAN);
@@ -222,12 +250,15 @@ impl<B: AutodiffBackend> Trainer<B> {
                     GuidanceSignal::Behaviour(pi_b) => behaviour_rewards(pi_b, &logp_old, &obs, &actions),
                 };
                 let (adv_c, _) = self.advantages(&mut g.critic, &batch, &rewards, &obs);
+                time.critics += lap();
                 let (policy, stats) = trpo_step(self.policy.clone(), &data, &adv_c, delta_k, &self.config.policy_step);
                 self.policy = policy;
                 guidance_kl = stats.kl;
+                time.guidance = lap();
                 if let GuidanceSignal::Discriminator(d) = &mut g.signal {
-                    disc_loss = d.update(obs.clone(), actions.clone());
+                    disc_loss = d.update(Tensor::from_inner(obs.clone()), Tensor::from_inner(actions.clone()));
                 }
+                time.discriminator = lap();
             }
             self.guidance = Some(g);
         }
@@ -235,7 +266,9 @@ impl<B: AutodiffBackend> Trainer<B> {
         // 6. Evaluate, record.
         self.iteration += 1;
         self.samples += n;
+        lap();
         let eval = if k % self.config.eval_every == 0 || self.done() { self.evaluate()? } else { f64::NAN };
+        time.evaluation = lap();
         let metrics = IterationMetrics {
             iteration: k,
             samples: self.samples,
@@ -249,6 +282,7 @@ impl<B: AutodiffBackend> Trainer<B> {
             delta_k,
             critic_loss,
             disc_loss,
+            time,
         };
         self.append_csv(&metrics)?;
         if self.iteration % self.config.checkpoint_every == 0 || self.done() {
@@ -260,7 +294,7 @@ impl<B: AutodiffBackend> Trainer<B> {
     /// Mean dense return of the mean-action policy over whole episodes of at least
     /// `eval_steps` steps in all.
     pub fn evaluate(&mut self) -> Result<f64, TrainError> {
-        let policy = self.policy.valid();
+        let policy = &self.policy;
         let spec = self.eval_env.spec().clone();
         let mut obs = vec![0.0; spec.obs_dim];
         let (mut steps, mut returns) = (0, Vec::new());
@@ -286,7 +320,7 @@ impl<B: AutodiffBackend> Trainer<B> {
         let mut f = std::fs::OpenOptions::new().append(true).open(self.out_dir.join("metrics.csv"))?;
         writeln!(
             f,
-            "{},{},{:.3},{},{},{},{},{},{},{},{},{}",
+            "{},{},{:.3},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
             m.iteration,
             m.samples,
             m.wall_s,
@@ -298,7 +332,13 @@ impl<B: AutodiffBackend> Trainer<B> {
             m.guidance_kl,
             m.delta_k,
             m.critic_loss,
-            m.disc_loss
+            m.disc_loss,
+            m.time.sampling,
+            m.time.critics,
+            m.time.policy_step,
+            m.time.guidance,
+            m.time.discriminator,
+            m.time.evaluation
         )
     }
 

@@ -3,10 +3,10 @@
 //! s = CG(F, g, 10 iterations), full step s·sqrt(2δ / sᵀFs), backtracking over
 //! fractions 0.5^i (i < 10) until actual / expected improvement > 0.1, else no step.
 
-use burn::module::AutodiffModule;
 use burn::tensor::Tensor;
-use burn::tensor::backend::AutodiffBackend;
-use logo_nn::flat::{grads_to_vec, params_to_vec, to_f64, vec_to_params};
+use burn::tensor::backend::Backend;
+use logo_nn::flat::{flatten_layers, from_f64, params_to_vec, to_f64, vec_to_params};
+use logo_nn::policy::gaussian_log_prob;
 use logo_nn::{FisherVectorProduct, GaussianPolicy, conjugate_gradient, mean_kl};
 use serde::{Deserialize, Serialize};
 
@@ -42,8 +42,8 @@ impl Default for PolicyStepConfig {
     }
 }
 
-/// The batch a step works on (autodiff-backend tensors; forward-only passes use `.inner()`).
-pub struct StepData<B: AutodiffBackend> {
+/// The batch a step works on.
+pub struct StepData<B: Backend> {
     pub obs: Tensor<B, 2>,
     pub actions: Tensor<B, 2>,
     /// log π_k(a|s): the policy that collected the batch.
@@ -60,36 +60,40 @@ pub struct StepStats {
     pub step_fraction: f64,
 }
 
-fn surrogate<B: AutodiffBackend>(
-    policy: &GaussianPolicy<B::InnerBackend>,
-    data: &StepData<B>,
-    advantages: &Tensor<B::InnerBackend, 1>,
-) -> f64 {
-    let logp = policy.log_prob(data.obs.clone().inner(), data.actions.clone().inner());
-    to_f64(((logp - data.logp_old.clone().inner()).exp() * advantages.clone()).mean())[0]
+/// The surrogate mean(exp(log π − log π_old) · Â).
+pub fn surrogate<B: Backend>(policy: &GaussianPolicy<B>, data: &StepData<B>, advantages: &Tensor<B, 1>) -> f64 {
+    let logp = policy.log_prob(data.obs.clone(), data.actions.clone());
+    to_f64(((logp - data.logp_old.clone()).exp() * advantages.clone()).mean())[0]
 }
 
-pub fn trpo_step<B: AutodiffBackend>(
+/// ∇θ of [`surrogate`], by hand: with w_i = ratio_i Â_i / N and z = (a − μ)/σ,
+/// ∂/∂μ = w z/σ (through the mean net's reverse pass) and ∂/∂log σ = Σ_i w_i (z² − 1).
+/// Laid out like `params_to_vec(policy)`; a test checks it against burn's autodiff.
+pub fn surrogate_gradient<B: Backend>(policy: &GaussianPolicy<B>, data: &StepData<B>, advantages: &Tensor<B, 1>) -> Vec<f64> {
+    let n = data.obs.dims()[0] as f64;
+    let (inputs, mean) = policy.mean.forward_trace(data.obs.clone());
+    let log_std = policy.log_std.val();
+    let logp = gaussian_log_prob(mean.clone(), log_std.clone(), data.actions.clone());
+    let w = ((logp - data.logp_old.clone()).exp() * advantages.clone()).div_scalar(n).unsqueeze_dim::<2>(1);
+    let inv_std = log_std.neg().exp().unsqueeze_dim::<2>(0);
+    let z = (data.actions.clone() - mean) * inv_std.clone();
+    let mut grad = flatten_layers(policy.mean.vjp(&inputs, z.clone() * inv_std * w.clone()));
+    grad.extend(to_f64(((z.clone() * z).sub_scalar(1.0) * w).sum_dim(0)));
+    grad
+}
+
+pub fn trpo_step<B: Backend>(
     policy: GaussianPolicy<B>,
     data: &StepData<B>,
     advantages: &[f64],
     max_kl: f64,
     config: &PolicyStepConfig,
 ) -> (GaussianPolicy<B>, StepStats) {
-    let device = data.obs.device();
-    let adv = logo_nn::flat::from_f64::<B, 1>(advantages, [advantages.len()], &device);
-    let adv_inner = adv.clone().inner();
-
-    // g = ∇ surrogate (autodiff); the loss is its negative, as in the reference.
-    let logp = policy.log_prob(data.obs.clone(), data.actions.clone());
-    let surr = ((logp - data.logp_old.clone()).exp() * adv).mean();
-    let grad = grads_to_vec(&policy, &surr.backward());
-
-    let inner = policy.valid();
-    let fvp = FisherVectorProduct::new(&inner, data.obs.clone().inner(), config.damping);
+    let adv = from_f64::<B, 1>(advantages, [advantages.len()], &data.obs.device());
+    let grad = surrogate_gradient(&policy, data, &adv);
+    let fvp = FisherVectorProduct::new(&policy, data.obs.clone(), config.damping);
     let direction = conjugate_gradient(|v| fvp.apply(v), &grad, config.cg_iters, 1e-10);
     let shs: f64 = 0.5 * direction.iter().zip(fvp.apply(&direction)).map(|(a, b)| a * b).sum::<f64>();
-    let theta = params_to_vec(&inner);
     if !(shs > 0.0 && shs.is_finite()) {
         return (policy, StepStats::default());
     }
@@ -97,20 +101,20 @@ pub fn trpo_step<B: AutodiffBackend>(
     let full_step: Vec<f64> = direction.iter().map(|d| d / scale).collect();
     let expected_full: f64 = grad.iter().zip(&full_step).map(|(g, s)| g * s).sum();
 
-    let before = surrogate::<B>(&inner, data, &adv_inner);
+    let theta = params_to_vec(&policy);
+    let before = surrogate(&policy, data, &adv);
     let mut fraction = 1.0;
     for _ in 0..config.backtracks {
         let candidate: Vec<f64> = theta.iter().zip(&full_step).map(|(t, s)| t + fraction * s).collect();
-        let new_inner = vec_to_params(inner.clone(), &candidate);
-        let actual = surrogate::<B>(&new_inner, data, &adv_inner) - before;
+        let new_policy = vec_to_params(policy.clone(), &candidate);
+        let actual = surrogate(&new_policy, data, &adv) - before;
         let expected = expected_full * fraction;
         if actual / expected > config.accept_ratio {
-            let old_mean = inner.mean_action(data.obs.clone().inner());
             let kl = mean_kl(
-                old_mean,
-                inner.log_std.val(),
-                new_inner.mean_action(data.obs.clone().inner()),
-                new_inner.log_std.val(),
+                policy.mean_action(data.obs.clone()),
+                policy.log_std.val(),
+                new_policy.mean_action(data.obs.clone()),
+                new_policy.log_std.val(),
             );
             let stats = StepStats {
                 kl: to_f64(kl)[0],
@@ -118,7 +122,7 @@ pub fn trpo_step<B: AutodiffBackend>(
                 actual_improvement: actual,
                 step_fraction: fraction,
             };
-            return (vec_to_params(policy, &candidate), stats);
+            return (new_policy, stats);
         }
         fraction *= 0.5;
     }
