@@ -129,9 +129,13 @@ pub struct ConfigError {
 impl TrainConfig {
     /// Reads and checks a config; relative paths inside become relative to its folder.
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
-        let err = |message: String| ConfigError { path: path.to_path_buf(), message };
+        let err = |message: String| ConfigError {
+            path: path.to_path_buf(),
+            message,
+        };
         let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
-        let mut config: TrainConfig = toml::from_str(&text).map_err(|e| err(e.to_string().trim_end().replace('\n', " ")))?;
+        let mut config: TrainConfig =
+            toml::from_str(&text).map_err(|e| err(e.to_string().trim_end().replace('\n', " ")))?;
         let base = path.parent().unwrap_or(Path::new("."));
         let resolve = |p: &mut PathBuf| {
             if p.is_relative() {
@@ -161,7 +165,8 @@ impl TrainConfig {
         if let Some((key, _)) = positive.iter().find(|(_, v)| *v == 0) {
             return Err(format!("{key} must be at least 1"));
         }
-        if !(self.max_kl > 0.0) {
+        let max_kl_ok = self.max_kl.is_finite() && self.max_kl > 0.0; // false for NaN too
+        if !max_kl_ok {
             return Err(format!("max_kl must be > 0, got {}", self.max_kl));
         }
         for (key, v) in [("gamma", self.gamma), ("gae_lambda", self.gae_lambda)] {
@@ -176,25 +181,41 @@ impl TrainConfig {
         }
         if let Some(g) = &self.guidance {
             match (&g.demos, &g.behaviour_policy) {
-                (None, None) => return Err("guidance: set demos (a discriminator) or behaviour_policy".into()),
-                (Some(_), Some(_)) => return Err("guidance: set demos or behaviour_policy, not both".into()),
+                (None, None) => {
+                    return Err("guidance: set demos (a discriminator) or behaviour_policy".into());
+                }
+                (Some(_), Some(_)) => {
+                    return Err("guidance: set demos or behaviour_policy, not both".into());
+                }
                 _ => {}
             }
-            for (key, p) in [("guidance.demos", &g.demos), ("guidance.behaviour_policy", &g.behaviour_policy)] {
+            for (key, p) in [
+                ("guidance.demos", &g.demos),
+                ("guidance.behaviour_policy", &g.behaviour_policy),
+            ] {
                 if let Some(p) = p
                     && !p.is_file()
                 {
                     return Err(format!("{key}: file {} not found", p.display()));
                 }
             }
-            if !(g.delta0 > 0.0) || !(g.alpha > 0.0 && g.alpha <= 1.0) {
-                return Err(format!("guidance: delta0 must be > 0 and alpha in (0, 1], got {} and {}", g.delta0, g.alpha));
+            let ok = g.delta0.is_finite() && g.delta0 > 0.0 && g.alpha > 0.0 && g.alpha <= 1.0;
+            if !ok {
+                return Err(format!(
+                    "guidance: delta0 must be > 0 and alpha in (0, 1], got {} and {}",
+                    g.delta0, g.alpha
+                ));
             }
         }
         Ok(())
     }
 
     pub fn eval_env_id(&self) -> String {
-        self.eval_env.clone().unwrap_or_else(|| self.env.strip_prefix("Sparse").unwrap_or(&self.env).to_string())
+        self.eval_env.clone().unwrap_or_else(|| {
+            self.env
+                .strip_prefix("Sparse")
+                .unwrap_or(&self.env)
+                .to_string()
+        })
     }
 }

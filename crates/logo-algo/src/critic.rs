@@ -41,18 +41,25 @@ pub fn value_loss_and_grad<B: Backend>(
     let diff = out - target;
     let mse = to_f64((diff.clone() * diff.clone()).sum())[0] / n;
     let mut grad = flatten_layers(net.net.vjp(&inputs, diff.mul_scalar(2.0 / n)));
-    grad.iter_mut().zip(theta).for_each(|(g, t)| *g += 2.0 * l2 * t);
+    grad.iter_mut()
+        .zip(theta)
+        .for_each(|(g, t)| *g += 2.0 * l2 * t);
     (mse + l2 * theta.iter().map(|t| t * t).sum::<f64>(), grad)
 }
 
 impl<B: Backend> Critic<B> {
     pub fn new(kind: CriticKind, obs_dim: usize, hidden: &[usize], device: &B::Device) -> Self {
-        let config = ValueNetConfig { obs_dim, hidden: hidden.to_vec() };
+        let config = ValueNetConfig {
+            obs_dim,
+            hidden: hidden.to_vec(),
+        };
         let count = match kind {
             CriticKind::Single => 1,
             CriticKind::TwinMin => 2,
         };
-        Self { nets: (0..count).map(|_| config.init(device)).collect() }
+        Self {
+            nets: (0..count).map(|_| config.init(device)).collect(),
+        }
     }
 
     /// The baseline V(s) for each row: the (minimum over the) value net(s).
@@ -65,7 +72,13 @@ impl<B: Backend> Critic<B> {
     }
 
     /// Fits every net to `returns`; returns the final loss of each.
-    pub fn fit(&mut self, obs: &Tensor<B, 2>, returns: &[f64], l2: f64, iterations: usize) -> Vec<f64> {
+    pub fn fit(
+        &mut self,
+        obs: &Tensor<B, 2>,
+        returns: &[f64],
+        l2: f64,
+        iterations: usize,
+    ) -> Vec<f64> {
         let target = from_f64::<B, 2>(returns, [returns.len(), 1], &obs.device());
         let mut losses = Vec::new();
         for net in &mut self.nets {

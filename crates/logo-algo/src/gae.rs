@@ -18,7 +18,12 @@ pub struct GaeInput<'a> {
 /// With `cross_episode_bootstrap` a truncated episode bootstraps, as the LOGO reference
 /// does (it has no time-limit flag), from the *next episode's first state* and carries
 /// its advantage across the boundary; otherwise from V(s_T) of its own final state.
-pub fn gae(input: &GaeInput, gamma: f64, lambda: f64, cross_episode_bootstrap: bool) -> (Vec<f64>, Vec<f64>) {
+pub fn gae(
+    input: &GaeInput,
+    gamma: f64,
+    lambda: f64,
+    cross_episode_bootstrap: bool,
+) -> (Vec<f64>, Vec<f64>) {
     let n = input.rewards.len();
     let mut advantages = vec![0.0; n];
     let mut next_advantage = 0.0;
@@ -27,7 +32,11 @@ pub fn gae(input: &GaeInput, gamma: f64, lambda: f64, cross_episode_bootstrap: b
         let (next_value, carry) = if input.terminated[t] {
             (0.0, 0.0)
         } else if input.episode_end[t] {
-            if cross_episode_bootstrap { (next_value_in_batch, 1.0) } else { (input.truncation_values[t], 0.0) }
+            if cross_episode_bootstrap {
+                (next_value_in_batch, 1.0)
+            } else {
+                (input.truncation_values[t], 0.0)
+            }
         } else {
             (next_value_in_batch, 1.0)
         };
@@ -35,7 +44,11 @@ pub fn gae(input: &GaeInput, gamma: f64, lambda: f64, cross_episode_bootstrap: b
         next_advantage = delta + gamma * lambda * carry * next_advantage;
         advantages[t] = next_advantage;
     }
-    let returns = advantages.iter().zip(input.values).map(|(a, v)| a + v).collect();
+    let returns = advantages
+        .iter()
+        .zip(input.values)
+        .map(|(a, v)| a + v)
+        .collect();
     (advantages, returns)
 }
 
@@ -46,7 +59,9 @@ pub fn normalise(x: &[f64]) -> Vec<f64> {
     let mean = x.iter().sum::<f64>() / n;
     let var = x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0).max(1.0);
     let std = var.sqrt();
-    x.iter().map(|v| (v - mean) / if std > 0.0 { std } else { 1.0 }).collect()
+    x.iter()
+        .map(|v| (v - mean) / if std > 0.0 { std } else { 1.0 })
+        .collect()
 }
 
 #[cfg(test)]
@@ -58,7 +73,13 @@ mod tests {
         let n = r.len();
         let next = |t: usize| if t + 1 < n { v[t + 1] } else { v_end };
         let delta: Vec<f64> = (0..n).map(|t| r[t] + gamma * next(t) - v[t]).collect();
-        (0..n).map(|t| (t..n).map(|l| (gamma * lambda).powi((l - t) as i32) * delta[l]).sum()).collect()
+        (0..n)
+            .map(|t| {
+                (t..n)
+                    .map(|l| (gamma * lambda).powi((l - t) as i32) * delta[l])
+                    .sum()
+            })
+            .collect()
     }
 
     #[test]
@@ -69,7 +90,13 @@ mod tests {
         let terminated = [false, false, true, false, false, false, false];
         let end = [false, false, true, false, false, false, true];
         let trunc = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.5];
-        let input = GaeInput { rewards: &r, values: &v, terminated: &terminated, episode_end: &end, truncation_values: &trunc };
+        let input = GaeInput {
+            rewards: &r,
+            values: &v,
+            terminated: &terminated,
+            episode_end: &end,
+            truncation_values: &trunc,
+        };
         let (adv, ret) = gae(&input, 0.99, 0.95, false);
         let mut want = by_definition(&r[..3], &v[..3], 0.0, 0.99, 0.95);
         want.extend(by_definition(&r[3..], &v[3..], 2.5, 0.99, 0.95));
@@ -79,7 +106,13 @@ mod tests {
         assert!((ret[4] - (adv[4] + v[4])).abs() < 1e-15);
         // The reference's option: at a truncation, bootstrap into the next episode.
         let end2 = [false, true, false, false, false, false, true];
-        let input = GaeInput { rewards: &r, values: &v, terminated: &[false; 7], episode_end: &end2, truncation_values: &trunc };
+        let input = GaeInput {
+            rewards: &r,
+            values: &v,
+            terminated: &[false; 7],
+            episode_end: &end2,
+            truncation_values: &trunc,
+        };
         let (cross, _) = gae(&input, 0.99, 0.95, true);
         let whole = by_definition(&r, &v, 0.0, 0.99, 0.95);
         for (a, w) in cross.iter().zip(&whole) {

@@ -29,7 +29,12 @@ const WINDOW: usize = 10;
 
 impl DeltaSchedule {
     pub fn new(delta0: f64, alpha: f64, warmup: usize) -> Self {
-        Self { delta: delta0, alpha, warmup, window: VecDeque::new() }
+        Self {
+            delta: delta0,
+            alpha,
+            warmup,
+            window: VecDeque::new(),
+        }
     }
 
     /// Feeds iteration `iteration`'s mean sparse training return.
@@ -64,7 +69,12 @@ pub struct DiscriminatorTrainer<B: AutodiffBackend> {
 }
 
 impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
-    pub fn new(config: &DiscriminatorConfig, demos: &Demonstrations, lr: f64, device: &B::Device) -> Self {
+    pub fn new(
+        config: &DiscriminatorConfig,
+        demos: &Demonstrations,
+        lr: f64,
+        device: &B::Device,
+    ) -> Self {
         let rows = demos.len();
         Self {
             disc: config.init(device),
@@ -77,14 +87,20 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
     }
 
     /// r_C = −log D(s, a) for each pair (higher where the pair looks like the demos).
-    pub fn rewards(&self, obs: Tensor<B::InnerBackend, 2>, actions: Tensor<B::InnerBackend, 2>) -> Vec<f64> {
+    pub fn rewards(
+        &self,
+        obs: Tensor<B::InnerBackend, 2>,
+        actions: Tensor<B::InnerBackend, 2>,
+    ) -> Vec<f64> {
         to_f64(self.disc.valid().guidance_reward(obs, actions))
     }
 
     /// One Adam step; returns the loss before it.
     pub fn update(&mut self, obs: Tensor<B, 2>, actions: Tensor<B, 2>) -> f64 {
         let policy_logits = self.disc.logits(obs, actions);
-        let demo_logits = self.disc.logits(self.demo_obs.clone(), self.demo_actions.clone());
+        let demo_logits = self
+            .disc
+            .logits(self.demo_obs.clone(), self.demo_actions.clone());
         // BCE(label 1) = softplus(−z); BCE(label 0) = softplus(z).
         let loss = softplus(policy_logits.neg()).mean() + softplus(demo_logits).mean();
         let value = to_f64(loss.clone().inner())[0];

@@ -15,7 +15,11 @@ pub struct LbfgsResult {
 
 /// Minimises `f` (returning the loss and its gradient) from `x0` for at most `max_iter`
 /// iterations.
-pub fn minimize(mut f: impl FnMut(&[f64]) -> (f64, Vec<f64>), x0: Vec<f64>, max_iter: usize) -> LbfgsResult {
+pub fn minimize(
+    mut f: impl FnMut(&[f64]) -> (f64, Vec<f64>),
+    x0: Vec<f64>,
+    max_iter: usize,
+) -> LbfgsResult {
     const MEMORY: usize = 10;
     let mut x = x0;
     let (mut loss, mut grad) = f(&x);
@@ -49,7 +53,11 @@ pub fn minimize(mut f: impl FnMut(&[f64]) -> (f64, Vec<f64>), x0: Vec<f64>, max_
         let mut step = 1.0;
         let mut accepted = None;
         for _ in 0..20 {
-            let candidate: Vec<f64> = x.iter().zip(&direction).map(|(xi, di)| xi + step * di).collect();
+            let candidate: Vec<f64> = x
+                .iter()
+                .zip(&direction)
+                .map(|(xi, di)| xi + step * di)
+                .collect();
             let (l, g) = f(&candidate);
             evaluations += 1;
             if l.is_finite() && l <= loss + 1e-4 * step * slope {
@@ -58,7 +66,9 @@ pub fn minimize(mut f: impl FnMut(&[f64]) -> (f64, Vec<f64>), x0: Vec<f64>, max_
             }
             step *= 0.5;
         }
-        let Some((x_new, loss_new, grad_new)) = accepted else { break };
+        let Some((x_new, loss_new, grad_new)) = accepted else {
+            break;
+        };
         let s: Vec<f64> = x_new.iter().zip(&x).map(|(a, b)| a - b).collect();
         let y: Vec<f64> = grad_new.iter().zip(&grad).map(|(a, b)| a - b).collect();
         let ys = dot(&y, &s);
@@ -75,7 +85,12 @@ pub fn minimize(mut f: impl FnMut(&[f64]) -> (f64, Vec<f64>), x0: Vec<f64>, max_
             break;
         }
     }
-    LbfgsResult { x, loss, iterations, evaluations }
+    LbfgsResult {
+        x,
+        loss,
+        iterations,
+        evaluations,
+    }
 }
 
 #[cfg(test)]
@@ -87,17 +102,38 @@ mod tests {
         let f = |x: &[f64]| {
             let (a, b) = (x[0], x[1]);
             let loss = (1.0 - a).powi(2) + 100.0 * (b - a * a).powi(2);
-            (loss, vec![-2.0 * (1.0 - a) - 400.0 * a * (b - a * a), 200.0 * (b - a * a)])
+            (
+                loss,
+                vec![
+                    -2.0 * (1.0 - a) - 400.0 * a * (b - a * a),
+                    200.0 * (b - a * a),
+                ],
+            )
         };
         let r = minimize(f, vec![-1.2, 1.0], 200);
-        assert!((r.x[0] - 1.0).abs() < 1e-5 && (r.x[1] - 1.0).abs() < 1e-5, "{:?} after {}", r.x, r.iterations);
+        assert!(
+            (r.x[0] - 1.0).abs() < 1e-5 && (r.x[1] - 1.0).abs() < 1e-5,
+            "{:?} after {}",
+            r.x,
+            r.iterations
+        );
     }
 
     #[test]
     fn solves_a_quadratic_within_its_dimension() {
         let f = |x: &[f64]| {
-            let loss: f64 = x.iter().enumerate().map(|(i, v)| (i as f64 + 1.0) * (v - 2.0).powi(2)).sum();
-            (loss, x.iter().enumerate().map(|(i, v)| 2.0 * (i as f64 + 1.0) * (v - 2.0)).collect())
+            let loss: f64 = x
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (i as f64 + 1.0) * (v - 2.0).powi(2))
+                .sum();
+            (
+                loss,
+                x.iter()
+                    .enumerate()
+                    .map(|(i, v)| 2.0 * (i as f64 + 1.0) * (v - 2.0))
+                    .collect(),
+            )
         };
         let r = minimize(f, vec![0.0; 5], 25);
         assert!(r.loss < 1e-10, "{}", r.loss);

@@ -40,7 +40,8 @@ impl Batch {
     }
 
     pub fn mean_dense_return(&self) -> f64 {
-        self.episode_dense_returns.iter().sum::<f64>() / self.episode_dense_returns.len().max(1) as f64
+        self.episode_dense_returns.iter().sum::<f64>()
+            / self.episode_dense_returns.len().max(1) as f64
     }
 }
 
@@ -61,7 +62,11 @@ pub fn collect<B: Backend>(
 ) -> Result<Batch, EnvError> {
     let (n, obs_dim, act_dim) = (venv.num_envs(), venv.spec().obs_dim, venv.spec().act_dim);
     let device = Default::default();
-    let mut batch = Batch { obs_dim, act_dim, ..Default::default() };
+    let mut batch = Batch {
+        obs_dim,
+        act_dim,
+        ..Default::default()
+    };
     let mut episodes = vec![Episode::default(); n];
     let mut active = vec![true; n];
     while active.iter().any(|a| *a) {
@@ -74,17 +79,25 @@ pub fn collect<B: Backend>(
             }
             let (step, ep) = (out.steps[i], &mut episodes[i]);
             ep.obs.extend_from_slice(&obs[i * obs_dim..][..obs_dim]);
-            ep.actions.extend_from_slice(&actions[i * act_dim..][..act_dim]);
+            ep.actions
+                .extend_from_slice(&actions[i * act_dim..][..act_dim]);
             ep.rewards.push(step.reward);
             ep.dense.push(step.info.dense_reward);
             if !step.done() {
                 continue;
             }
             let len = ep.rewards.len();
-            batch.terminated.extend(std::iter::repeat_n(false, len - 1).chain([step.terminated]));
-            batch.episode_end.extend(std::iter::repeat_n(false, len - 1).chain([true]));
+            batch
+                .terminated
+                .extend(std::iter::repeat_n(false, len - 1).chain([step.terminated]));
+            batch
+                .episode_end
+                .extend(std::iter::repeat_n(false, len - 1).chain([true]));
             if !step.terminated {
-                batch.truncations.push((batch.rewards.len() + len - 1, out.final_obs[i * obs_dim..][..obs_dim].to_vec()));
+                batch.truncations.push((
+                    batch.rewards.len() + len - 1,
+                    out.final_obs[i * obs_dim..][..obs_dim].to_vec(),
+                ));
             }
             batch.episode_returns.push(ep.rewards.iter().sum());
             batch.episode_dense_returns.push(ep.dense.iter().sum());

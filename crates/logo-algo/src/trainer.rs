@@ -20,7 +20,10 @@ use burn::tensor::backend::AutodiffBackend;
 use logo_data::Demonstrations;
 use logo_envs::{Env, EnvFactory, EnvOptions, VecEnv};
 use logo_nn::flat::{from_f64, to_f64};
-use logo_nn::{Checkpoint, CheckpointMeta, DiscriminatorConfig, GaussianPolicy, PolicyConfig, load_reference_policy};
+use logo_nn::{
+    Checkpoint, CheckpointMeta, DiscriminatorConfig, GaussianPolicy, PolicyConfig,
+    load_reference_policy,
+};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -108,7 +111,12 @@ impl<B: AutodiffBackend> Trainer<B> {
         let venv = VecEnv::new(&factory, config.num_envs, config.threads, config.seed)?;
         let eval_env = EnvFactory::new(&config.eval_env_id(), &EnvOptions::default())?.build();
         if eval_env.spec().obs_dim != spec.obs_dim || eval_env.spec().act_dim != spec.act_dim {
-            return Err(format!("eval_env {} does not have the dims of env {}", eval_env.spec().id, spec.id).into());
+            return Err(format!(
+                "eval_env {} does not have the dims of env {}",
+                eval_env.spec().id,
+                spec.id
+            )
+            .into());
         }
         let policy = match &config.init_policy {
             Some(path) => {
@@ -116,7 +124,12 @@ impl<B: AutodiffBackend> Trainer<B> {
                 if (p.obs_dim(), p.act_dim()) != (spec.obs_dim, spec.act_dim) {
                     return Err(format!(
                         "init_policy {}: obs/action dims ({}, {}) do not match {} ({}, {})",
-                        path.display(), p.obs_dim(), p.act_dim(), spec.id, spec.obs_dim, spec.act_dim
+                        path.display(),
+                        p.obs_dim(),
+                        p.act_dim(),
+                        spec.id,
+                        spec.obs_dim,
+                        spec.act_dim
                     )
                     .into());
                 }
@@ -137,19 +150,40 @@ impl<B: AutodiffBackend> Trainer<B> {
                 let signal = if let Some(path) = &g.behaviour_policy {
                     GuidanceSignal::Behaviour(load_reference_policy(path, &device)?)
                 } else {
-                    let path = g.demos.as_ref().expect("validated: demos or behaviour_policy");
+                    let path = g
+                        .demos
+                        .as_ref()
+                        .expect("validated: demos or behaviour_policy");
                     let demos = Demonstrations::from_npy(path, spec.obs_dim, spec.act_dim)
                         .map_err(|e| format!("guidance.demos: {e}"))?;
                     let observe = g.observe.unwrap_or(spec.obs_dim);
                     if observe == 0 || observe > spec.obs_dim {
-                        return Err(format!("guidance.observe must be in 1..={}, got {observe}", spec.obs_dim).into());
+                        return Err(format!(
+                            "guidance.observe must be in 1..={}, got {observe}",
+                            spec.obs_dim
+                        )
+                        .into());
                     }
-                    let dc = DiscriminatorConfig { observe, act_dim: spec.act_dim, hidden: g.discriminator_hidden.clone() };
-                    GuidanceSignal::Discriminator(DiscriminatorTrainer::new(&dc, &demos, g.discriminator_lr, &device))
+                    let dc = DiscriminatorConfig {
+                        observe,
+                        act_dim: spec.act_dim,
+                        hidden: g.discriminator_hidden.clone(),
+                    };
+                    GuidanceSignal::Discriminator(DiscriminatorTrainer::new(
+                        &dc,
+                        &demos,
+                        g.discriminator_lr,
+                        &device,
+                    ))
                 };
                 Some(Guidance {
                     signal,
-                    critic: Critic::new(config.critic, spec.obs_dim, &config.critic_hidden, &device),
+                    critic: Critic::new(
+                        config.critic,
+                        spec.obs_dim,
+                        &config.critic_hidden,
+                        &device,
+                    ),
                     schedule: DeltaSchedule::new(g.delta0, g.alpha, g.warmup),
                 })
             }
@@ -188,12 +222,26 @@ impl<B: AutodiffBackend> Trainer<B> {
 
     /// GAE for one reward stream with `critic`, then fits `critic` to the returns.
     /// Returns the normalised advantages and the critic's final loss.
-    fn advantages(&self, critic: &mut Critic<Inner<B>>, batch: &Batch, rewards: &[f64], obs: &Tensor<Inner<B>, 2>) -> (Vec<f64>, f64) {
+    fn advantages(
+        &self,
+        critic: &mut Critic<Inner<B>>,
+        batch: &Batch,
+        rewards: &[f64],
+        obs: &Tensor<Inner<B>, 2>,
+    ) -> (Vec<f64>, f64) {
         let values = critic.values(obs.clone());
         let mut truncation_values = vec![0.0; batch.len()];
         if !batch.truncations.is_empty() {
-            let rows: Vec<f64> = batch.truncations.iter().flat_map(|(_, o)| o.iter().copied()).collect();
-            let v = critic.values(from_f64(&rows, [batch.truncations.len(), batch.obs_dim], &self.device));
+            let rows: Vec<f64> = batch
+                .truncations
+                .iter()
+                .flat_map(|(_, o)| o.iter().copied())
+                .collect();
+            let v = critic.values(from_f64(
+                &rows,
+                [batch.truncations.len(), batch.obs_dim],
+                &self.device,
+            ));
             for ((t, _), value) in batch.truncations.iter().zip(v) {
                 truncation_values[*t] = value;
             }
@@ -205,9 +253,22 @@ impl<B: AutodiffBackend> Trainer<B> {
             episode_end: &batch.episode_end,
             truncation_values: &truncation_values,
         };
-        let (adv, returns) = gae(&input, self.config.gamma, self.config.gae_lambda, self.config.cross_episode_bootstrap);
-        let losses = critic.fit(obs, &returns, self.config.critic_l2, self.config.critic_iters);
-        (normalise(&adv), losses.iter().sum::<f64>() / losses.len() as f64)
+        let (adv, returns) = gae(
+            &input,
+            self.config.gamma,
+            self.config.gae_lambda,
+            self.config.cross_episode_bootstrap,
+        );
+        let losses = critic.fit(
+            obs,
+            &returns,
+            self.config.critic_l2,
+            self.config.critic_iters,
+        );
+        (
+            normalise(&adv),
+            losses.iter().sum::<f64>() / losses.len() as f64,
+        )
     }
 
     /// Runs one iteration and appends its row to `metrics.csv`.
@@ -222,20 +283,35 @@ impl<B: AutodiffBackend> Trainer<B> {
             dt
         };
         // 1. Collect with π_k.
-        let batch = collect(&mut self.venv, &self.policy, &mut self.rng, self.config.samples_per_iter)?;
+        let batch = collect(
+            &mut self.venv,
+            &self.policy,
+            &mut self.rng,
+            self.config.samples_per_iter,
+        )?;
         time.sampling = lap();
         let n = batch.len();
         let obs = from_f64::<Inner<B>, 2>(&batch.obs, [n, batch.obs_dim], &self.device);
         let actions = from_f64::<Inner<B>, 2>(&batch.actions, [n, batch.act_dim], &self.device);
         let logp_old = self.policy.log_prob(obs.clone(), actions.clone());
-        let data = StepData { obs: obs.clone(), actions: actions.clone(), logp_old: logp_old.clone() };
+        let data = StepData {
+            obs: obs.clone(),
+            actions: actions.clone(),
+            logp_old: logp_old.clone(),
+        };
 
         // 2-3. Env critic, improvement step.
         let mut critic = std::mem::replace(&mut self.critic, Critic { nets: Vec::new() });
         let (adv, critic_loss) = self.advantages(&mut critic, &batch, &batch.rewards, &obs);
         self.critic = critic;
         time.critics += lap();
-        let (policy, improvement) = trpo_step(self.policy.clone(), &data, &adv, self.config.max_kl, &self.config.policy_step);
+        let (policy, improvement) = trpo_step(
+            self.policy.clone(),
+            &data,
+            &adv,
+            self.config.max_kl,
+            &self.config.policy_step,
+        );
         self.policy = policy;
         time.policy_step = lap();
 
@@ -247,16 +323,27 @@ impl<B: AutodiffBackend> Trainer<B> {
             if g.schedule.guidance_on() {
                 let rewards = match &g.signal {
                     GuidanceSignal::Discriminator(d) => d.rewards(obs.clone(), actions.clone()),
-                    GuidanceSignal::Behaviour(pi_b) => behaviour_rewards(pi_b, &logp_old, &obs, &actions),
+                    GuidanceSignal::Behaviour(pi_b) => {
+                        behaviour_rewards(pi_b, &logp_old, &obs, &actions)
+                    }
                 };
                 let (adv_c, _) = self.advantages(&mut g.critic, &batch, &rewards, &obs);
                 time.critics += lap();
-                let (policy, stats) = trpo_step(self.policy.clone(), &data, &adv_c, delta_k, &self.config.policy_step);
+                let (policy, stats) = trpo_step(
+                    self.policy.clone(),
+                    &data,
+                    &adv_c,
+                    delta_k,
+                    &self.config.policy_step,
+                );
                 self.policy = policy;
                 guidance_kl = stats.kl;
                 time.guidance = lap();
                 if let GuidanceSignal::Discriminator(d) = &mut g.signal {
-                    disc_loss = d.update(Tensor::from_inner(obs.clone()), Tensor::from_inner(actions.clone()));
+                    disc_loss = d.update(
+                        Tensor::from_inner(obs.clone()),
+                        Tensor::from_inner(actions.clone()),
+                    );
                 }
                 time.discriminator = lap();
             }
@@ -267,7 +354,11 @@ impl<B: AutodiffBackend> Trainer<B> {
         self.iteration += 1;
         self.samples += n;
         lap();
-        let eval = if k % self.config.eval_every == 0 || self.done() { self.evaluate()? } else { f64::NAN };
+        let eval = if k.is_multiple_of(self.config.eval_every) || self.done() {
+            self.evaluate()?
+        } else {
+            f64::NAN
+        };
         time.evaluation = lap();
         let metrics = IterationMetrics {
             iteration: k,
@@ -285,7 +376,7 @@ impl<B: AutodiffBackend> Trainer<B> {
             time,
         };
         self.append_csv(&metrics)?;
-        if self.iteration % self.config.checkpoint_every == 0 || self.done() {
+        if self.iteration.is_multiple_of(self.config.checkpoint_every) || self.done() {
             self.save_checkpoint(&self.out_dir.join("checkpoint.safetensors"))?;
         }
         Ok(metrics)
@@ -300,10 +391,14 @@ impl<B: AutodiffBackend> Trainer<B> {
         let (mut steps, mut returns) = (0, Vec::new());
         while steps < self.config.eval_steps {
             // Fixed evaluation seeds: every evaluation sees the same initial states.
-            self.eval_env.reset(Some(1_000_000 + self.config.seed * 1000 + returns.len() as u64), &mut obs);
+            self.eval_env.reset(
+                Some(1_000_000 + self.config.seed * 1000 + returns.len() as u64),
+                &mut obs,
+            );
             let mut total = 0.0;
             loop {
-                let action = to_f64(policy.mean_action(from_f64(&obs, [1, spec.obs_dim], &self.device)));
+                let action =
+                    to_f64(policy.mean_action(from_f64(&obs, [1, spec.obs_dim], &self.device)));
                 let step = self.eval_env.step(&action, &mut obs)?;
                 total += step.info.dense_reward;
                 steps += 1;
@@ -317,7 +412,9 @@ impl<B: AutodiffBackend> Trainer<B> {
     }
 
     fn append_csv(&self, m: &IterationMetrics) -> std::io::Result<()> {
-        let mut f = std::fs::OpenOptions::new().append(true).open(self.out_dir.join("metrics.csv"))?;
+        let mut f = std::fs::OpenOptions::new()
+            .append(true)
+            .open(self.out_dir.join("metrics.csv"))?;
         writeln!(
             f,
             "{},{},{:.3},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
@@ -344,11 +441,22 @@ impl<B: AutodiffBackend> Trainer<B> {
 
     pub fn save_checkpoint(&self, path: &Path) -> Result<(), TrainError> {
         let spec = self.venv.spec();
-        let algorithm = if self.guidance.is_some() { "logo" } else { "trpo" };
+        let algorithm = if self.guidance.is_some() {
+            "logo"
+        } else {
+            "trpo"
+        };
         let mut meta = CheckpointMeta::new(&spec.id, spec.obs_dim, spec.act_dim, algorithm);
-        let hidden = |layers: usize| self.policy.mean.layers[..layers].iter().map(|l| l.weight.dims()[1]).collect();
-        meta.networks.insert("policy".into(), hidden(self.policy.mean.layers.len() - 1));
-        meta.networks.insert("critic".into(), self.config.critic_hidden.clone());
+        let hidden = |layers: usize| {
+            self.policy.mean.layers[..layers]
+                .iter()
+                .map(|l| l.weight.dims()[1])
+                .collect()
+        };
+        meta.networks
+            .insert("policy".into(), hidden(self.policy.mean.layers.len() - 1));
+        meta.networks
+            .insert("critic".into(), self.config.critic_hidden.clone());
         meta.iteration = self.iteration as u64;
         meta.seed = self.config.seed;
         meta.extra = serde_json::json!({ "samples": self.samples, "config": self.config });

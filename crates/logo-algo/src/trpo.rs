@@ -38,7 +38,12 @@ fn default_accept_ratio() -> f64 {
 
 impl Default for PolicyStepConfig {
     fn default() -> Self {
-        Self { damping: 0.01, cg_iters: 10, backtracks: 10, accept_ratio: 0.1 }
+        Self {
+            damping: 0.01,
+            cg_iters: 10,
+            backtracks: 10,
+            accept_ratio: 0.1,
+        }
     }
 }
 
@@ -61,7 +66,11 @@ pub struct StepStats {
 }
 
 /// The surrogate mean(exp(log π − log π_old) · Â).
-pub fn surrogate<B: Backend>(policy: &GaussianPolicy<B>, data: &StepData<B>, advantages: &Tensor<B, 1>) -> f64 {
+pub fn surrogate<B: Backend>(
+    policy: &GaussianPolicy<B>,
+    data: &StepData<B>,
+    advantages: &Tensor<B, 1>,
+) -> f64 {
     let logp = policy.log_prob(data.obs.clone(), data.actions.clone());
     to_f64(((logp - data.logp_old.clone()).exp() * advantages.clone()).mean())[0]
 }
@@ -69,12 +78,18 @@ pub fn surrogate<B: Backend>(policy: &GaussianPolicy<B>, data: &StepData<B>, adv
 /// ∇θ of [`surrogate`], by hand: with w_i = ratio_i Â_i / N and z = (a − μ)/σ,
 /// ∂/∂μ = w z/σ (through the mean net's reverse pass) and ∂/∂log σ = Σ_i w_i (z² − 1).
 /// Laid out like `params_to_vec(policy)`; a test checks it against burn's autodiff.
-pub fn surrogate_gradient<B: Backend>(policy: &GaussianPolicy<B>, data: &StepData<B>, advantages: &Tensor<B, 1>) -> Vec<f64> {
+pub fn surrogate_gradient<B: Backend>(
+    policy: &GaussianPolicy<B>,
+    data: &StepData<B>,
+    advantages: &Tensor<B, 1>,
+) -> Vec<f64> {
     let n = data.obs.dims()[0] as f64;
     let (inputs, mean) = policy.mean.forward_trace(data.obs.clone());
     let log_std = policy.log_std.val();
     let logp = gaussian_log_prob(mean.clone(), log_std.clone(), data.actions.clone());
-    let w = ((logp - data.logp_old.clone()).exp() * advantages.clone()).div_scalar(n).unsqueeze_dim::<2>(1);
+    let w = ((logp - data.logp_old.clone()).exp() * advantages.clone())
+        .div_scalar(n)
+        .unsqueeze_dim::<2>(1);
     let inv_std = log_std.neg().exp().unsqueeze_dim::<2>(0);
     let z = (data.actions.clone() - mean) * inv_std.clone();
     let mut grad = flatten_layers(policy.mean.vjp(&inputs, z.clone() * inv_std * w.clone()));
@@ -93,7 +108,12 @@ pub fn trpo_step<B: Backend>(
     let grad = surrogate_gradient(&policy, data, &adv);
     let fvp = FisherVectorProduct::new(&policy, data.obs.clone(), config.damping);
     let direction = conjugate_gradient(|v| fvp.apply(v), &grad, config.cg_iters, 1e-10);
-    let shs: f64 = 0.5 * direction.iter().zip(fvp.apply(&direction)).map(|(a, b)| a * b).sum::<f64>();
+    let shs: f64 = 0.5
+        * direction
+            .iter()
+            .zip(fvp.apply(&direction))
+            .map(|(a, b)| a * b)
+            .sum::<f64>();
     if !(shs > 0.0 && shs.is_finite()) {
         return (policy, StepStats::default());
     }
@@ -105,7 +125,11 @@ pub fn trpo_step<B: Backend>(
     let before = surrogate(&policy, data, &adv);
     let mut fraction = 1.0;
     for _ in 0..config.backtracks {
-        let candidate: Vec<f64> = theta.iter().zip(&full_step).map(|(t, s)| t + fraction * s).collect();
+        let candidate: Vec<f64> = theta
+            .iter()
+            .zip(&full_step)
+            .map(|(t, s)| t + fraction * s)
+            .collect();
         let new_policy = vec_to_params(policy.clone(), &candidate);
         let actual = surrogate(&new_policy, data, &adv) - before;
         let expected = expected_full * fraction;
@@ -126,5 +150,11 @@ pub fn trpo_step<B: Backend>(
         }
         fraction *= 0.5;
     }
-    (policy, StepStats { expected_improvement: expected_full, ..StepStats::default() })
+    (
+        policy,
+        StepStats {
+            expected_improvement: expected_full,
+            ..StepStats::default()
+        },
+    )
 }

@@ -51,8 +51,14 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         anyhow::ensure!(threads > 0, "--threads must be at least 1");
         config.threads = threads;
     }
-    let name = args.config.file_stem().map_or("run".into(), |s| s.to_string_lossy().into_owned());
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("runs/{name}-seed{}", config.seed)));
+    let name = args
+        .config
+        .file_stem()
+        .map_or("run".into(), |s| s.to_string_lossy().into_owned());
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("runs/{name}-seed{}", config.seed)));
     match args.dtype {
         Dtype::F64 => train::<CpuAutodiff>(config, out),
         Dtype::F32 => train::<Cpu32Autodiff>(config, out),
@@ -60,7 +66,11 @@ pub fn run(args: &TrainArgs) -> Result<()> {
 }
 
 fn train<B: AutodiffBackend>(config: TrainConfig, out: PathBuf) -> Result<()> {
-    let algorithm = if config.guidance.is_some() { "LOGO" } else { "TRPO" };
+    let algorithm = if config.guidance.is_some() {
+        "LOGO"
+    } else {
+        "TRPO"
+    };
     println!(
         "{algorithm} on {} (eval: {}), {} iterations x {} samples, seed {}, {} envs on {} threads -> {}",
         config.env,
@@ -77,7 +87,10 @@ fn train<B: AutodiffBackend>(config: TrainConfig, out: PathBuf) -> Result<()> {
     let mut best = (f64::NEG_INFINITY, 0);
     let mut last = None;
     while !trainer.done() {
-        let m = trainer.step().map_err(|e| anyhow::anyhow!("{e}")).context(format!("iteration {}", trainer.iteration()))?;
+        let m = trainer
+            .step()
+            .map_err(|e| anyhow::anyhow!("{e}"))
+            .context(format!("iteration {}", trainer.iteration()))?;
         if m.eval_dense_return > best.0 {
             best = (m.eval_dense_return, m.iteration);
         }

@@ -13,13 +13,27 @@ pub use npy::{NpyArray, read_npy};
 #[derive(Debug, thiserror::Error)]
 pub enum DataError {
     #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     #[error("{}: not a .npy file this reader handles: {reason}", path.display())]
     Npy { path: PathBuf, reason: String },
     #[error("{}: rows have {found} columns, expected obs {obs_dim} + action {act_dim} = {}", path.display(), obs_dim + act_dim)]
-    Columns { path: PathBuf, found: usize, obs_dim: usize, act_dim: usize },
+    Columns {
+        path: PathBuf,
+        found: usize,
+        obs_dim: usize,
+        act_dim: usize,
+    },
     #[error("{}: row {row}, column {column} ({field}) is {value}, expected a finite number", path.display())]
-    NonFinite { path: PathBuf, row: usize, column: usize, field: &'static str, value: f64 },
+    NonFinite {
+        path: PathBuf,
+        row: usize,
+        column: usize,
+        field: &'static str,
+        value: f64,
+    },
     #[error("{}: no demonstration rows", path.display())]
     Empty { path: PathBuf },
 }
@@ -47,23 +61,50 @@ impl Demonstrations {
     /// checking the width against the env's dims and every value for finiteness.
     pub fn from_npy(path: &Path, obs_dim: usize, act_dim: usize) -> Result<Self, DataError> {
         let array = read_npy(path)?;
-        let cols = if array.shape.len() == 2 { array.shape[1] } else { 0 };
+        let cols = if array.shape.len() == 2 {
+            array.shape[1]
+        } else {
+            0
+        };
         if cols != obs_dim + act_dim {
-            return Err(DataError::Columns { path: path.to_path_buf(), found: cols, obs_dim, act_dim });
+            return Err(DataError::Columns {
+                path: path.to_path_buf(),
+                found: cols,
+                obs_dim,
+                act_dim,
+            });
         }
         if array.shape[0] == 0 {
-            return Err(DataError::Empty { path: path.to_path_buf() });
+            return Err(DataError::Empty {
+                path: path.to_path_buf(),
+            });
         }
         let mut obs = Vec::with_capacity(array.shape[0] * obs_dim);
         let mut actions = Vec::with_capacity(array.shape[0] * act_dim);
         for (row, values) in array.data.chunks(cols).enumerate() {
             if let Some(column) = values.iter().position(|v| !v.is_finite()) {
-                let field = if column < obs_dim { "observation" } else { "action" };
-                return Err(DataError::NonFinite { path: path.to_path_buf(), row, column, field, value: values[column] });
+                let field = if column < obs_dim {
+                    "observation"
+                } else {
+                    "action"
+                };
+                return Err(DataError::NonFinite {
+                    path: path.to_path_buf(),
+                    row,
+                    column,
+                    field,
+                    value: values[column],
+                });
             }
             obs.extend_from_slice(&values[..obs_dim]);
             actions.extend_from_slice(&values[obs_dim..]);
         }
-        Ok(Self { obs_dim, act_dim, obs, actions, source: path.to_path_buf() })
+        Ok(Self {
+            obs_dim,
+            act_dim,
+            obs,
+            actions,
+            source: path.to_path_buf(),
+        })
     }
 }

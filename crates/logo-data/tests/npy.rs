@@ -3,8 +3,15 @@ use std::path::{Path, PathBuf};
 use logo_data::{DataError, Demonstrations, read_npy};
 
 fn reference(name: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/logo-demos").join(name);
-    if p.exists() { Some(p) } else { eprintln!("skipped: {} is not there", p.display()); None }
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/reference/logo-demos")
+        .join(name);
+    if p.exists() {
+        Some(p)
+    } else {
+        eprintln!("skipped: {} is not there", p.display());
+        None
+    }
 }
 
 #[test]
@@ -18,9 +25,17 @@ fn the_logo_demonstrations_load_with_their_listed_shapes() {
         let Some(path) = reference(file) else { return };
         let demos = Demonstrations::from_npy(&path, obs, act).unwrap();
         assert_eq!(demos.len(), rows, "{file}");
-        assert!(demos.actions.iter().all(|a| a.abs() < 1.0), "{file}: actions strictly inside (-1, 1)");
-        let err = Demonstrations::from_npy(&path, obs + 1, act).unwrap_err().to_string();
-        assert!(err.contains(file) && err.contains(&format!("{} columns", obs + act)), "{err}");
+        assert!(
+            demos.actions.iter().all(|a| a.abs() < 1.0),
+            "{file}: actions strictly inside (-1, 1)"
+        );
+        let err = Demonstrations::from_npy(&path, obs + 1, act)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(file) && err.contains(&format!("{} columns", obs + act)),
+            "{err}"
+        );
     }
 }
 
@@ -46,11 +61,29 @@ fn bad_files_are_errors_naming_the_problem() {
     std::fs::write(&path, &good).unwrap();
     assert_eq!(read_npy(&path).unwrap().shape, vec![2, 3]);
     let demos = Demonstrations::from_npy(&path, 2, 1).unwrap();
-    assert_eq!((demos.obs, demos.actions), (vec![1.0, 2.0, 4.0, 5.0], vec![3.0, 6.0]));
+    assert_eq!(
+        (demos.obs, demos.actions),
+        (vec![1.0, 2.0, 4.0, 5.0], vec![3.0, 6.0])
+    );
 
-    std::fs::write(&path, npy_bytes("<f8", "(2, 3)", &[1.0, 2.0, f64::NAN, 4.0, 5.0, 6.0])).unwrap();
+    std::fs::write(
+        &path,
+        npy_bytes("<f8", "(2, 3)", &[1.0, 2.0, f64::NAN, 4.0, 5.0, 6.0]),
+    )
+    .unwrap();
     let err = Demonstrations::from_npy(&path, 2, 1).unwrap_err();
-    assert!(matches!(err, DataError::NonFinite { row: 0, column: 2, field: "action", .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            DataError::NonFinite {
+                row: 0,
+                column: 2,
+                field: "action",
+                ..
+            }
+        ),
+        "{err}"
+    );
     std::fs::write(&path, npy_bytes("<f4", "(2, 3)", &[])).unwrap();
     assert!(read_npy(&path).unwrap_err().to_string().contains("'<f4'"));
     // Every truncation is an error, never a panic.

@@ -38,7 +38,10 @@ pub type LayerTensors<B> = Vec<(Tensor<B, 2>, Tensor<B, 1>)>;
 pub fn tanh<B: Backend, const D: usize>(x: Tensor<B, D>) -> Tensor<B, D> {
     if TypeId::of::<B>() == TypeId::of::<crate::Cpu>() {
         let (shape, device) = (x.shape(), x.device());
-        let mut values = x.into_data().into_vec::<f64>().expect("NdArray<f64> holds f64");
+        let mut values = x
+            .into_data()
+            .into_vec::<f64>()
+            .expect("NdArray<f64> holds f64");
         tanh_f64_in_place(&mut values);
         return Tensor::from_data(TensorData::new(values, shape), &device);
     }
@@ -72,8 +75,9 @@ unsafe fn tanh_avx2_fma(values: &mut [f64]) {
 #[inline(always)]
 fn tanh_loop<const FMA: bool>(values: &mut [f64]) {
     let step = |acc: f64, x: f64, c: f64| if FMA { acc.mul_add(x, c) } else { acc * x + c };
-    const LN2_HI: f64 = 6.931_471_803_691_238_2e-1;
-    const LN2_LO: f64 = 1.908_214_929_270_587_7e-10;
+    // ln 2 split so that n·LN2_HI is exact (fdlibm's constants).
+    const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
+    const LN2_LO: f64 = f64::from_bits(0x3DEA_39EF_3579_3C76);
     const INV_LN2: f64 = std::f64::consts::LOG2_E;
     // Adding 1.5·2^52 rounds to an integer and leaves it in the low mantissa bits: no
     // libm `round`, no float-to-int conversion (neither vectorises on baseline x86-64).
@@ -98,7 +102,8 @@ fn tanh_loop<const FMA: bool>(values: &mut [f64]) {
         for k in (0..14).rev() {
             q = step(q, r, INV_FACTORIALS[k]);
         }
-        let two_to_n = f64::from_bits(t.to_bits().wrapping_sub(SHIFT.to_bits()).wrapping_add(1023) << 52);
+        let two_to_n =
+            f64::from_bits(t.to_bits().wrapping_sub(SHIFT.to_bits()).wrapping_add(1023) << 52);
         let large = (1.0 - 2.0 / (q * two_to_n + 1.0)).copysign(x);
         *v = if a < 0.5 { small } else { large };
     }

@@ -5,14 +5,31 @@ use logo_nn::mlp::tanh_f64_in_place;
 #[test]
 fn fast_tanh_is_within_a_few_ulp_of_libm() {
     let mut xs: Vec<f64> = (-200_000..=200_000).map(|i| i as f64 * 1e-4).collect(); // [-20, 20]
-    xs.extend([0.0, -0.0, 1e-300, -1e-300, 1e-12, 0.4999999999, 0.5, 0.5000000001, 19.0, 25.0, 700.0, -700.0, 1e300]);
+    xs.extend([
+        0.0,
+        -0.0,
+        1e-300,
+        -1e-300,
+        1e-12,
+        0.4999999999,
+        0.5,
+        0.5000000001,
+        19.0,
+        25.0,
+        700.0,
+        -700.0,
+        1e300,
+    ]);
     let mut ys = xs.clone();
     tanh_f64_in_place(&mut ys);
     let mut worst_ulp = 0u64;
     for (x, y) in xs.iter().zip(&ys) {
         let want = x.tanh();
         let ulp = (y.to_bits() as i64 - want.to_bits() as i64).unsigned_abs();
-        assert!(ulp <= 4 || (y - want).abs() <= 1e-16, "tanh({x}) = {y}, libm {want}");
+        assert!(
+            ulp <= 4 || (y - want).abs() <= 1e-16,
+            "tanh({x}) = {y}, libm {want}"
+        );
         worst_ulp = worst_ulp.max(ulp);
     }
     assert!(ys.iter().all(|y| y.abs() <= 1.0));
@@ -21,7 +38,9 @@ fn fast_tanh_is_within_a_few_ulp_of_libm() {
 
 #[test]
 fn fast_tanh_is_faster_than_libm() {
-    let xs: Vec<f64> = (0..1_000_000).map(|i| ((i as f64) * 0.001).sin() * 3.0).collect();
+    let xs: Vec<f64> = (0..1_000_000)
+        .map(|i| ((i as f64) * 0.001).sin() * 3.0)
+        .collect();
     let time = |f: &dyn Fn(&mut Vec<f64>)| {
         (0..5)
             .map(|_| {
@@ -35,6 +54,13 @@ fn fast_tanh_is_faster_than_libm() {
     };
     let fast = time(&|v| tanh_f64_in_place(v));
     let libm = time(&|v| v.iter_mut().for_each(|x| *x = x.tanh()));
-    eprintln!("1M tanh: fast {:.2} ms, libm {:.2} ms", fast * 1e3, libm * 1e3);
-    assert!(fast < libm, "the fast path must be faster, or it has no reason to exist");
+    eprintln!(
+        "1M tanh: fast {:.2} ms, libm {:.2} ms",
+        fast * 1e3,
+        libm * 1e3
+    );
+    assert!(
+        fast < libm,
+        "the fast path must be faster, or it has no reason to exist"
+    );
 }

@@ -1,0 +1,179 @@
+//! The `logo` binary as a user meets it.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn logo(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_logo"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("logo-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A demonstrations file with the given width, in the .npy layout.
+fn write_npy(path: &Path, rows: usize, cols: usize) {
+    let mut header =
+        format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend((header.len() as u16).to_le_bytes());
+    bytes.extend(header.as_bytes());
+    for k in 0..rows * cols {
+        bytes.extend(((k as f64 * 0.1).sin() * 0.5).to_le_bytes());
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
+const TINY: &str = r#"
+env = "SparseInvertedDoublePendulum-v4"
+iterations = 2
+samples_per_iter = 300
+num_envs = 4
+policy_hidden = [16, 16]
+critic_hidden = [16, 16]
+critic_iters = 3
+eval_steps = 100
+[guidance]
+demos = "demos.npy"
+delta0 = 0.2
+alpha = 0.9
+warmup = 0
+"#;
+
+fn stderr_line(out: &Output) -> String {
+    assert!(
+        !out.status.success(),
+        "expected a failure; stdout: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let err = String::from_utf8_lossy(&out.stderr).trim().to_string();
+    assert_eq!(err.lines().count(), 1, "one line, got: {err}");
+    err
+}
+
+#[test]
+fn config_errors_name_the_file_and_the_key() {
+    let dir = scratch("config");
+    write_npy(&dir.join("demos.npy"), 20, 12);
+    let cases = [
+        (
+            TINY.replace("iterations = 2", "iterations = 2\nbogus_key = 1"),
+            "bogus_key",
+        ),
+        (
+            TINY.replace("samples_per_iter = 300", "samples_per_iter = \"many\""),
+            "samples_per_iter",
+        ),
+        (TINY.replace("demos.npy", "missing.npy"), "guidance.demos"),
+        (TINY.replace("num_envs = 4", "num_envs = 0"), "num_envs"),
+    ];
+    for (i, (text, key)) in cases.iter().enumerate() {
+        let path = dir.join(format!("case{i}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let err = stderr_line(&logo(&[
+            "train",
+            "--config",
+            path.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ]));
+        assert!(
+            err.contains(&format!("case{i}.toml")) && err.contains(key),
+            "{err}"
+        );
+    }
+    // Demonstrations whose width does not match the env's obs + action dims.
+    write_npy(&dir.join("demos.npy"), 20, 9);
+    let path = dir.join("dims.toml");
+    std::fs::write(&path, TINY).unwrap();
+    let err = stderr_line(&logo(&[
+        "train",
+        "--config",
+        path.to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+    ]));
+    assert!(
+        err.contains("guidance.demos") && err.contains("demos.npy") && err.contains("9 columns"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
+    let dir = scratch("train");
+    write_npy(&dir.join("demos.npy"), 40, 12);
+    let config = dir.join("tiny.toml");
+    std::fs::write(&config, TINY).unwrap();
+    let run = |name: &str| {
+        let out_dir = dir.join(name);
+        let out = logo(&[
+            "train",
+            "--config",
+            config.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--seed",
+            "3",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+        assert!(
+            stdout.contains("[   2/2]") && stdout.contains("final eval dense return"),
+            "{stdout}"
+        );
+        let csv = std::fs::read_to_string(out_dir.join("metrics.csv")).unwrap();
+        assert!(out_dir.join("checkpoint.safetensors").is_file());
+        csv
+    };
+    let (a, b) = (run("a"), run("b"));
+    let header: Vec<&str> = a.lines().next().unwrap().split(',').collect();
+    for col in [
+        "iteration",
+        "samples",
+        "wall_s",
+        "train_sparse_return",
+        "eval_dense_return",
+        "kl",
+        "delta_k",
+    ] {
+        assert!(header.contains(&col), "metrics.csv lacks {col}: {header:?}");
+    }
+    assert_eq!(a.lines().count(), 3, "a header and one row per iteration");
+    // Same seed, same numbers (everything but the timings).
+    let values = |csv: &str| -> Vec<Vec<String>> {
+        csv.lines()
+            .skip(1)
+            .map(|l| {
+                l.split(',')
+                    .zip(&header)
+                    .filter(|(_, h)| **h != "wall_s" && !h.starts_with("t_"))
+                    .map(|(v, _)| v.to_string())
+                    .collect()
+            })
+            .collect()
+    };
+    assert_eq!(values(&a), values(&b));
+}
+
+#[test]
+fn unknown_env_ids_are_one_line_errors() {
+    let err = stderr_line(&logo(&["rollout", "--env", "Hopper-v9"]));
+    assert!(
+        err.contains("Hopper-v9") && err.contains("known ids"),
+        "{err}"
+    );
+}
