@@ -16,21 +16,23 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// A demonstrations file with the given width, in the .npy layout.
+/// A demonstrations file with the given width.
 fn write_npy(path: &Path, rows: usize, cols: usize) {
-    let mut header =
-        format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend((header.len() as u16).to_le_bytes());
-    bytes.extend(header.as_bytes());
-    for k in 0..rows * cols {
-        bytes.extend(((k as f64 * 0.1).sin() * 0.5).to_le_bytes());
-    }
-    std::fs::write(path, bytes).unwrap();
+    let data: Vec<f64> = (0..rows * cols)
+        .map(|k| (k as f64 * 0.1).sin() * 0.5)
+        .collect();
+    logo_data::write_npy(path, &[rows, cols], &data).unwrap();
+}
+
+/// `logo train` on `config`, expected to fail: its one-line error.
+fn train_error(config: &Path, out: &Path) -> String {
+    stderr_line(&logo(&[
+        "train",
+        "--config",
+        config.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]))
 }
 
 const TINY: &str = r#"
@@ -79,13 +81,7 @@ fn config_errors_name_the_file_and_the_key() {
     for (i, (text, key)) in cases.iter().enumerate() {
         let path = dir.join(format!("case{i}.toml"));
         std::fs::write(&path, text).unwrap();
-        let err = stderr_line(&logo(&[
-            "train",
-            "--config",
-            path.to_str().unwrap(),
-            "--out",
-            dir.join("out").to_str().unwrap(),
-        ]));
+        let err = train_error(&path, &dir.join("out"));
         assert!(
             err.contains(&format!("case{i}.toml")) && err.contains(key),
             "{err}"
@@ -95,13 +91,7 @@ fn config_errors_name_the_file_and_the_key() {
     write_npy(&dir.join("demos.npy"), 20, 9);
     let path = dir.join("dims.toml");
     std::fs::write(&path, TINY).unwrap();
-    let err = stderr_line(&logo(&[
-        "train",
-        "--config",
-        path.to_str().unwrap(),
-        "--out",
-        dir.join("out").to_str().unwrap(),
-    ]));
+    let err = train_error(&path, &dir.join("out"));
     assert!(
         err.contains("guidance.demos") && err.contains("demos.npy") && err.contains("9 columns"),
         "{err}"

@@ -8,7 +8,7 @@ mod npy;
 
 use std::path::{Path, PathBuf};
 
-pub use npy::{NpyArray, read_npy};
+pub use npy::{NpyArray, read_npy, write_npy};
 
 #[derive(Debug, thiserror::Error)]
 pub enum DataError {

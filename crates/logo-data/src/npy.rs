@@ -88,3 +88,32 @@ pub fn read_npy(path: &Path) -> Result<NpyArray, DataError> {
         .collect();
     Ok(NpyArray { shape, data })
 }
+
+/// Writes a C-order little-endian float64 array as `.npy` (format 1.0), header padded to
+/// 64 bytes as NumPy does.
+pub fn write_npy(path: &Path, shape: &[usize], data: &[f64]) -> Result<(), DataError> {
+    assert_eq!(
+        shape.iter().product::<usize>(),
+        data.len(),
+        "shape and data length agree"
+    );
+    let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
+    let shape_text = if dims.len() == 1 {
+        format!("({},)", dims[0])
+    } else {
+        format!("({})", dims.join(", "))
+    };
+    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape_text}, }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend((header.len() as u16).to_le_bytes());
+    bytes.extend(header.as_bytes());
+    bytes.extend(data.iter().flat_map(|v| v.to_le_bytes()));
+    std::fs::write(path, bytes).map_err(|source| DataError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}

@@ -1,6 +1,6 @@
 use std::path::{Path, PathBuf};
 
-use logo_data::{DataError, Demonstrations, read_npy};
+use logo_data::{DataError, Demonstrations, read_npy, write_npy};
 
 fn reference(name: &str) -> Option<PathBuf> {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -39,17 +39,15 @@ fn the_logo_demonstrations_load_with_their_listed_shapes() {
     }
 }
 
-fn npy_bytes(descr: &str, shape: &str, data: &[f64]) -> Vec<u8> {
-    let mut header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend((header.len() as u16).to_le_bytes());
-    out.extend(header.as_bytes());
-    out.extend(data.iter().flat_map(|v| v.to_le_bytes()));
-    out
+/// A `.npy` image whose dtype string is `descr` (three characters, as `<f8`), for the
+/// reader's error paths.
+fn npy_bytes(descr: &str, shape: &[usize], data: &[f64]) -> Vec<u8> {
+    let path = std::env::temp_dir().join(format!("logo-npy-bytes-{}.npy", std::process::id()));
+    write_npy(&path, shape, data).unwrap();
+    let mut bytes = std::fs::read(&path).unwrap();
+    let at = bytes.windows(3).position(|w| w == b"<f8").unwrap();
+    bytes[at..at + 3].copy_from_slice(descr.as_bytes());
+    bytes
 }
 
 #[test]
@@ -57,7 +55,7 @@ fn bad_files_are_errors_naming_the_problem() {
     let dir = std::env::temp_dir().join(format!("logo-npy-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("d.npy");
-    let good = npy_bytes("<f8", "(2, 3)", &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+    let good = npy_bytes("<f8", &[2, 3], &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
     std::fs::write(&path, &good).unwrap();
     assert_eq!(read_npy(&path).unwrap().shape, vec![2, 3]);
     let demos = Demonstrations::from_npy(&path, 2, 1).unwrap();
@@ -68,7 +66,7 @@ fn bad_files_are_errors_naming_the_problem() {
 
     std::fs::write(
         &path,
-        npy_bytes("<f8", "(2, 3)", &[1.0, 2.0, f64::NAN, 4.0, 5.0, 6.0]),
+        npy_bytes("<f8", &[2, 3], &[1.0, 2.0, f64::NAN, 4.0, 5.0, 6.0]),
     )
     .unwrap();
     let err = Demonstrations::from_npy(&path, 2, 1).unwrap_err();
@@ -84,7 +82,7 @@ fn bad_files_are_errors_naming_the_problem() {
         ),
         "{err}"
     );
-    std::fs::write(&path, npy_bytes("<f4", "(2, 3)", &[])).unwrap();
+    std::fs::write(&path, npy_bytes("<f4", &[2, 3], &[0.0; 6])).unwrap();
     assert!(read_npy(&path).unwrap_err().to_string().contains("'<f4'"));
     // Every truncation is an error, never a panic.
     for n in 0..good.len() {
