@@ -80,7 +80,7 @@ pub struct GuidanceConfig {
 }
 
 fn default_num_envs() -> usize {
-    8
+    2
 }
 fn default_threads() -> usize {
     2

@@ -1,6 +1,9 @@
 //! Collecting a batch: whole episodes from the vectorised env, the policy batched over
-//! the copies, until at least `min_steps` steps (the reference's rule). Copies that end an
-//! episode once enough steps are in stop; the others finish the episode they are in.
+//! the copies, until at least `min_steps` steps (the reference's rule). Once the steps
+//! taken (finished episodes and those in progress) reach `min_steps`, no copy starts a
+//! new episode; the episodes in progress finish. The reference collects one episode after
+//! another and overshoots by less than one episode; with N copies the overshoot is at
+//! most the rest of N episodes, so keep N small (the configs use one copy per core).
 
 use burn::tensor::backend::Backend;
 use logo_envs::{EnvError, VecEnv};
@@ -69,10 +72,12 @@ pub fn collect<B: Backend>(
     };
     let mut episodes = vec![Episode::default(); n];
     let mut active = vec![true; n];
+    let mut steps_taken = 0;
     while active.iter().any(|a| *a) {
         let obs = venv.obs().to_vec();
         let actions = policy.sample(from_f64(&obs, [n, obs_dim], &device), rng);
         let out = venv.step_active(&actions, &active)?;
+        steps_taken += active.iter().filter(|a| **a).count();
         for i in 0..n {
             if !active[i] {
                 continue;
@@ -106,7 +111,7 @@ pub fn collect<B: Backend>(
             batch.actions.extend(ep.actions);
             batch.rewards.extend(ep.rewards);
             batch.dense_rewards.extend(ep.dense);
-            if batch.rewards.len() >= min_steps {
+            if steps_taken >= min_steps {
                 active[i] = false;
             }
         }
