@@ -2,6 +2,7 @@
 
 mod bench;
 mod bench_nn;
+mod eval;
 mod rollout;
 mod train;
 
@@ -26,6 +27,8 @@ enum Command {
     Envs,
     /// Train TRPO or LOGO from a TOML config (configs/).
     Train(train::TrainArgs),
+    /// Evaluate a checkpoint's mean-action policy: dense and sparse return, mean ± std.
+    Eval(eval::EvalArgs),
     /// Run episodes with a fixed (random or zero) policy and print dense and sparse returns.
     Rollout(rollout::RolloutArgs),
     /// Measure throughput (see docs/benchmarks.md).
@@ -60,6 +63,7 @@ fn main() -> ExitCode {
         Command::Envs => rollout::list_envs(),
         Command::Rollout(args) => rollout::run(&args),
         Command::Train(args) => train::run(&args),
+        Command::Eval(args) => eval::run(&args),
         Command::Bench(cmd) => bench::run(&cmd),
     };
     match result {

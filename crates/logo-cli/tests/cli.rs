@@ -130,6 +130,25 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
         csv
     };
     let (a, b) = (run("a"), run("b"));
+    // The checkpoint evaluates.
+    let ckpt = dir.join("a/checkpoint.safetensors");
+    let out = logo(&[
+        "eval",
+        "--checkpoint",
+        ckpt.to_str().unwrap(),
+        "--episodes",
+        "2",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("SparseInvertedDoublePendulum-v4") && text.contains("dense return"),
+        "{text}"
+    );
     let header: Vec<&str> = a.lines().next().unwrap().split(',').collect();
     for col in [
         "iteration",
@@ -157,6 +176,16 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
             .collect()
     };
     assert_eq!(values(&a), values(&b));
+}
+
+#[test]
+fn a_missing_checkpoint_is_a_one_line_error() {
+    let err = stderr_line(&logo(&[
+        "eval",
+        "--checkpoint",
+        "/nonexistent/ckpt.safetensors",
+    ]));
+    assert!(err.contains("/nonexistent/ckpt.safetensors"), "{err}");
 }
 
 #[test]
