@@ -4,7 +4,7 @@
 
 use burn::tensor::{Tensor, backend::Backend};
 
-use crate::flat::{flatten_layers, from_f64, split_layers, to_f64};
+use crate::flat::{flatten_layers, split_layers};
 use crate::mlp::Mlp;
 use crate::policy::GaussianPolicy;
 
@@ -131,29 +131,4 @@ pub fn conjugate_gradient(
         rr = rr_new;
     }
     x
-}
-
-/// The mean KL of `policy` from fixed old outputs, as a plain number (line searches, logs).
-pub fn mean_kl_value<B: Backend>(
-    old_mean: Tensor<B, 2>,
-    old_log_std: Tensor<B, 1>,
-    policy: &GaussianPolicy<B>,
-    obs: Tensor<B, 2>,
-) -> f64 {
-    to_f64(mean_kl(
-        old_mean,
-        old_log_std,
-        policy.mean.forward(obs),
-        policy.log_std.val(),
-    ))[0]
-}
-
-/// `values` as a `[rows, cols]` tensor (test and glue helper).
-pub fn matrix<B: Backend>(
-    values: &[f64],
-    rows: usize,
-    cols: usize,
-    device: &B::Device,
-) -> Tensor<B, 2> {
-    from_f64(values, [rows, cols], device)
 }
