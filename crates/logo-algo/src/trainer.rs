@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use burn::tensor::Tensor;
-use burn::tensor::backend::AutodiffBackend;
+use burn::tensor::backend::{AutodiffBackend, Backend};
 use logo_data::Demonstrations;
 use logo_envs::{Env, EnvFactory, EnvOptions, VecEnv};
 use logo_nn::flat::{from_f64, to_f64};
@@ -100,6 +100,52 @@ pub struct Trainer<B: AutodiffBackend> {
     samples: usize,
     started: Instant,
     device: B::Device,
+}
+
+/// GAE for one reward stream with `critic`, then fits `critic` to the returns.
+/// Returns the normalised advantages and the critic's final loss.
+fn advantages<B: Backend>(
+    config: &TrainConfig,
+    critic: &mut Critic<B>,
+    batch: &Batch,
+    rewards: &[f64],
+    obs: &Tensor<B, 2>,
+) -> (Vec<f64>, f64) {
+    let values = critic.values(obs.clone());
+    let mut truncation_values = vec![0.0; batch.len()];
+    if !batch.truncations.is_empty() {
+        let rows: Vec<f64> = batch
+            .truncations
+            .iter()
+            .flat_map(|(_, o)| o.iter().copied())
+            .collect();
+        let v = critic.values(from_f64(
+            &rows,
+            [batch.truncations.len(), batch.obs_dim],
+            &obs.device(),
+        ));
+        for ((t, _), value) in batch.truncations.iter().zip(v) {
+            truncation_values[*t] = value;
+        }
+    }
+    let input = GaeInput {
+        rewards,
+        values: &values,
+        terminated: &batch.terminated,
+        episode_end: &batch.episode_end,
+        truncation_values: &truncation_values,
+    };
+    let (adv, returns) = gae(
+        &input,
+        config.gamma,
+        config.gae_lambda,
+        config.cross_episode_bootstrap,
+    );
+    let losses = critic.fit(obs, &returns, config.critic_l2, config.critic_iters);
+    (
+        normalise(&adv),
+        losses.iter().sum::<f64>() / losses.len() as f64,
+    )
 }
 
 impl<B: AutodiffBackend> Trainer<B> {
@@ -220,57 +266,6 @@ impl<B: AutodiffBackend> Trainer<B> {
         &self.policy
     }
 
-    /// GAE for one reward stream with `critic`, then fits `critic` to the returns.
-    /// Returns the normalised advantages and the critic's final loss.
-    fn advantages(
-        &self,
-        critic: &mut Critic<Inner<B>>,
-        batch: &Batch,
-        rewards: &[f64],
-        obs: &Tensor<Inner<B>, 2>,
-    ) -> (Vec<f64>, f64) {
-        let values = critic.values(obs.clone());
-        let mut truncation_values = vec![0.0; batch.len()];
-        if !batch.truncations.is_empty() {
-            let rows: Vec<f64> = batch
-                .truncations
-                .iter()
-                .flat_map(|(_, o)| o.iter().copied())
-                .collect();
-            let v = critic.values(from_f64(
-                &rows,
-                [batch.truncations.len(), batch.obs_dim],
-                &self.device,
-            ));
-            for ((t, _), value) in batch.truncations.iter().zip(v) {
-                truncation_values[*t] = value;
-            }
-        }
-        let input = GaeInput {
-            rewards,
-            values: &values,
-            terminated: &batch.terminated,
-            episode_end: &batch.episode_end,
-            truncation_values: &truncation_values,
-        };
-        let (adv, returns) = gae(
-            &input,
-            self.config.gamma,
-            self.config.gae_lambda,
-            self.config.cross_episode_bootstrap,
-        );
-        let losses = critic.fit(
-            obs,
-            &returns,
-            self.config.critic_l2,
-            self.config.critic_iters,
-        );
-        (
-            normalise(&adv),
-            losses.iter().sum::<f64>() / losses.len() as f64,
-        )
-    }
-
     /// Runs one iteration and appends its row to `metrics.csv`.
     pub fn step(&mut self) -> Result<IterationMetrics, TrainError> {
         let k = self.iteration;
@@ -301,9 +296,8 @@ impl<B: AutodiffBackend> Trainer<B> {
         };
 
         // 2-3. Env critic, improvement step.
-        let mut critic = std::mem::replace(&mut self.critic, Critic { nets: Vec::new() });
-        let (adv, critic_loss) = self.advantages(&mut critic, &batch, &batch.rewards, &obs);
-        self.critic = critic;
+        let (adv, critic_loss) =
+            advantages(&self.config, &mut self.critic, &batch, &batch.rewards, &obs);
         time.critics += lap();
         let (policy, improvement) = trpo_step(
             self.policy.clone(),
@@ -317,7 +311,7 @@ impl<B: AutodiffBackend> Trainer<B> {
 
         // 4-5. δ_k, guidance step, discriminator.
         let (mut guidance_kl, mut delta_k, mut disc_loss) = (0.0, 0.0, f64::NAN);
-        if let Some(mut g) = self.guidance.take() {
+        if let Some(g) = &mut self.guidance {
             g.schedule.update(k, batch.mean_return());
             delta_k = g.schedule.delta;
             if g.schedule.guidance_on() {
@@ -327,7 +321,7 @@ impl<B: AutodiffBackend> Trainer<B> {
                         behaviour_rewards(pi_b, &logp_old, &obs, &actions)
                     }
                 };
-                let (adv_c, _) = self.advantages(&mut g.critic, &batch, &rewards, &obs);
+                let (adv_c, _) = advantages(&self.config, &mut g.critic, &batch, &rewards, &obs);
                 time.critics += lap();
                 let (policy, stats) = trpo_step(
                     self.policy.clone(),
@@ -347,7 +341,6 @@ impl<B: AutodiffBackend> Trainer<B> {
                 }
                 time.discriminator = lap();
             }
-            self.guidance = Some(g);
         }
 
         // 6. Evaluate, record.
