@@ -6,6 +6,42 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// A function to minimise. Split in two so that a line-search candidate that is rejected
+/// costs only its loss: for the critics, a forward pass instead of forward + reverse.
+pub trait Objective {
+    /// The loss at `x`; keeps whatever [`Objective::gradient`] needs.
+    fn loss(&mut self, x: &[f64]) -> f64;
+    /// The gradient at the `x` of the latest [`Objective::loss`] call.
+    fn gradient(&mut self) -> Vec<f64>;
+}
+
+/// An [`Objective`] from a closure that computes the loss and the gradient together.
+pub struct Eager<F> {
+    f: F,
+    gradient: Vec<f64>,
+}
+
+impl<F: FnMut(&[f64]) -> (f64, Vec<f64>)> Eager<F> {
+    pub fn new(f: F) -> Self {
+        Self {
+            f,
+            gradient: Vec::new(),
+        }
+    }
+}
+
+impl<F: FnMut(&[f64]) -> (f64, Vec<f64>)> Objective for Eager<F> {
+    fn loss(&mut self, x: &[f64]) -> f64 {
+        let (loss, gradient) = (self.f)(x);
+        self.gradient = gradient;
+        loss
+    }
+
+    fn gradient(&mut self) -> Vec<f64> {
+        std::mem::take(&mut self.gradient)
+    }
+}
+
 pub struct LbfgsResult {
     pub x: Vec<f64>,
     pub loss: f64,
@@ -13,16 +49,12 @@ pub struct LbfgsResult {
     pub evaluations: usize,
 }
 
-/// Minimises `f` (returning the loss and its gradient) from `x0` for at most `max_iter`
-/// iterations.
-pub fn minimize(
-    mut f: impl FnMut(&[f64]) -> (f64, Vec<f64>),
-    x0: Vec<f64>,
-    max_iter: usize,
-) -> LbfgsResult {
+/// Minimises `f` from `x0` for at most `max_iter` iterations.
+pub fn minimize(f: &mut impl Objective, x0: Vec<f64>, max_iter: usize) -> LbfgsResult {
     const MEMORY: usize = 10;
     let mut x = x0;
-    let (mut loss, mut grad) = f(&x);
+    let mut loss = f.loss(&x);
+    let mut grad = f.gradient();
     let mut evaluations = 1;
     let mut history: Vec<(Vec<f64>, Vec<f64>, f64)> = Vec::new(); // (s, y, 1/yᵀs)
     let mut iterations = 0;
@@ -49,7 +81,9 @@ pub fn minimize(
         if slope >= 0.0 || !slope.is_finite() {
             break; // not a descent direction: converged or numerically stuck
         }
-        // Backtracking: the first step satisfying Armijo's sufficient decrease.
+        // Backtracking to the first step with Armijo's sufficient decrease; each retry
+        // goes to the minimum of the quadratic through f(0), f'(0) and f(step), kept
+        // within [0.1, 0.5]·step.
         let mut step = 1.0;
         let mut accepted = None;
         for _ in 0..20 {
@@ -58,13 +92,18 @@ pub fn minimize(
                 .zip(&direction)
                 .map(|(xi, di)| xi + step * di)
                 .collect();
-            let (l, g) = f(&candidate);
+            let l = f.loss(&candidate);
             evaluations += 1;
             if l.is_finite() && l <= loss + 1e-4 * step * slope {
-                accepted = Some((candidate, l, g));
+                accepted = Some((candidate, l, f.gradient()));
                 break;
             }
-            step *= 0.5;
+            let curvature = l - loss - slope * step;
+            step = if l.is_finite() && curvature > 0.0 {
+                (-slope * step * step / (2.0 * curvature)).clamp(0.1 * step, 0.5 * step)
+            } else {
+                0.1 * step
+            };
         }
         let Some((x_new, loss_new, grad_new)) = accepted else {
             break;
@@ -110,7 +149,7 @@ mod tests {
                 ],
             )
         };
-        let r = minimize(f, vec![-1.2, 1.0], 200);
+        let r = minimize(&mut Eager::new(f), vec![-1.2, 1.0], 200);
         assert!(
             (r.x[0] - 1.0).abs() < 1e-5 && (r.x[1] - 1.0).abs() < 1e-5,
             "{:?} after {}",
@@ -135,7 +174,7 @@ mod tests {
                     .collect(),
             )
         };
-        let r = minimize(f, vec![0.0; 5], 25);
+        let r = minimize(&mut Eager::new(f), vec![0.0; 5], 25);
         assert!(r.loss < 1e-10, "{}", r.loss);
     }
 }

@@ -8,7 +8,6 @@
 use burn::tensor::backend::Backend;
 use logo_envs::{EnvError, VecEnv};
 use logo_nn::GaussianPolicy;
-use logo_nn::flat::from_f64;
 use rand_chacha::ChaCha8Rng;
 
 /// Whole episodes laid end to end, row-major.
@@ -64,7 +63,7 @@ pub fn collect<B: Backend>(
     min_steps: usize,
 ) -> Result<Batch, EnvError> {
     let (n, obs_dim, act_dim) = (venv.num_envs(), venv.spec().obs_dim, venv.spec().act_dim);
-    let device = Default::default();
+    let policy = policy.acting();
     let mut batch = Batch {
         obs_dim,
         act_dim,
@@ -75,7 +74,7 @@ pub fn collect<B: Backend>(
     let mut steps_taken = 0;
     while active.iter().any(|a| *a) {
         let obs = venv.obs().to_vec();
-        let actions = policy.sample(from_f64(&obs, [n, obs_dim], &device), rng);
+        let actions = policy.sample(&obs, rng);
         let out = venv.step_active(&actions, &active)?;
         steps_taken += active.iter().filter(|a| **a).count();
         for i in 0..n {

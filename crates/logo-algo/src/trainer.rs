@@ -19,7 +19,7 @@ use burn::tensor::Tensor;
 use burn::tensor::backend::{AutodiffBackend, Backend};
 use logo_data::Demonstrations;
 use logo_envs::{Env, EnvFactory, EnvOptions, VecEnv};
-use logo_nn::flat::{from_f64, to_f64};
+use logo_nn::flat::from_f64;
 use logo_nn::{
     Checkpoint, CheckpointMeta, DiscriminatorConfig, GaussianPolicy, PolicyConfig,
     load_reference_policy,
@@ -378,7 +378,7 @@ impl<B: AutodiffBackend> Trainer<B> {
     /// Mean dense return of the mean-action policy over whole episodes of at least
     /// `eval_steps` steps in all.
     pub fn evaluate(&mut self) -> Result<f64, TrainError> {
-        let policy = &self.policy;
+        let policy = self.policy.acting();
         let spec = self.eval_env.spec().clone();
         let mut obs = vec![0.0; spec.obs_dim];
         let (mut steps, mut returns) = (0, Vec::new());
@@ -390,8 +390,7 @@ impl<B: AutodiffBackend> Trainer<B> {
             );
             let mut total = 0.0;
             loop {
-                let action =
-                    to_f64(policy.mean_action(from_f64(&obs, [1, spec.obs_dim], &self.device)));
+                let action = policy.mean(&obs);
                 let step = self.eval_env.step(&action, &mut obs)?;
                 total += step.info.dense_reward;
                 steps += 1;

@@ -7,7 +7,10 @@ use burn::tensor::Tensor;
 use burn::tensor::backend::Backend;
 use logo_nn::flat::{flatten_layers, from_f64, params_to_vec, to_f64, vec_to_params};
 use logo_nn::policy::gaussian_log_prob;
-use logo_nn::{FisherVectorProduct, GaussianPolicy, conjugate_gradient, mean_kl};
+use logo_nn::host::is_host_backend;
+use logo_nn::{
+    FisherVectorProduct, GaussianPolicy, HostMlp, HostTrace, conjugate_gradient, mean_kl,
+};
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -97,6 +100,19 @@ pub fn surrogate_gradient<B: Backend>(
     grad
 }
 
+/// What the natural-gradient step needs of the policy at parameters θ (flat, laid out like
+/// `params_to_vec(policy)`), on the step's fixed batch. Two implementations: burn tensors
+/// for any backend, and host buffers for the default CPU backend (`logo_nn::host`).
+trait StepObjective {
+    fn surrogate(&self, theta: &[f64]) -> f64;
+    /// ∇θ of the surrogate at the old parameters.
+    fn gradient(&self) -> Vec<f64>;
+    /// F·v at the old parameters (damped).
+    fn fisher_vector_product(&self, v: &[f64]) -> Vec<f64>;
+    /// Mean KL(π_old ‖ π_θ) on the batch.
+    fn kl_from_old(&self, theta: &[f64]) -> f64;
+}
+
 pub fn trpo_step<B: Backend>(
     policy: GaussianPolicy<B>,
     data: &StepData<B>,
@@ -104,25 +120,49 @@ pub fn trpo_step<B: Backend>(
     max_kl: f64,
     config: &PolicyStepConfig,
 ) -> (GaussianPolicy<B>, StepStats) {
-    let adv = from_f64::<B, 1>(advantages, [advantages.len()], &data.obs.device());
-    let grad = surrogate_gradient(&policy, data, &adv);
-    let fvp = FisherVectorProduct::new(&policy, data.obs.clone(), config.damping);
-    let direction = conjugate_gradient(|v| fvp.apply(v), &grad, config.cg_iters, 1e-10);
+    let theta = params_to_vec(&policy);
+    let objective: Box<dyn StepObjective + '_> = if is_host_backend::<B>() {
+        Box::new(HostObjective::new(&policy, data, advantages, config.damping))
+    } else {
+        Box::new(BurnObjective::new(&policy, data, advantages, config.damping))
+    };
+    let result = natural_gradient_step(&*objective, &theta, max_kl, config);
+    drop(objective);
+    match result {
+        Some((new_theta, stats)) => (vec_to_params(policy, &new_theta), stats),
+        None => (policy, StepStats::default()),
+    }
+}
+
+/// s = CG(F, g), full step s·sqrt(2δ / sᵀFs), then the backtracking line search.
+/// `None` when no step could be made (a degenerate direction).
+fn natural_gradient_step(
+    objective: &dyn StepObjective,
+    theta: &[f64],
+    max_kl: f64,
+    config: &PolicyStepConfig,
+) -> Option<(Vec<f64>, StepStats)> {
+    let grad = objective.gradient();
+    let direction = conjugate_gradient(
+        |v| objective.fisher_vector_product(v),
+        &grad,
+        config.cg_iters,
+        1e-10,
+    );
     let shs: f64 = 0.5
         * direction
             .iter()
-            .zip(fvp.apply(&direction))
+            .zip(objective.fisher_vector_product(&direction))
             .map(|(a, b)| a * b)
             .sum::<f64>();
     if !(shs > 0.0 && shs.is_finite()) {
-        return (policy, StepStats::default());
+        return None;
     }
     let scale = (shs / max_kl).sqrt();
     let full_step: Vec<f64> = direction.iter().map(|d| d / scale).collect();
     let expected_full: f64 = grad.iter().zip(&full_step).map(|(g, s)| g * s).sum();
 
-    let theta = params_to_vec(&policy);
-    let before = surrogate(&policy, data, &adv);
+    let before = objective.surrogate(theta);
     let mut fraction = 1.0;
     for _ in 0..config.backtracks {
         let candidate: Vec<f64> = theta
@@ -130,31 +170,274 @@ pub fn trpo_step<B: Backend>(
             .zip(&full_step)
             .map(|(t, s)| t + fraction * s)
             .collect();
-        let new_policy = vec_to_params(policy.clone(), &candidate);
-        let actual = surrogate(&new_policy, data, &adv) - before;
+        let actual = objective.surrogate(&candidate) - before;
         let expected = expected_full * fraction;
         if actual / expected > config.accept_ratio {
-            let kl = mean_kl(
-                policy.mean_action(data.obs.clone()),
-                policy.log_std.val(),
-                new_policy.mean_action(data.obs.clone()),
-                new_policy.log_std.val(),
-            );
             let stats = StepStats {
-                kl: to_f64(kl)[0],
+                kl: objective.kl_from_old(&candidate),
                 expected_improvement: expected,
                 actual_improvement: actual,
                 step_fraction: fraction,
             };
-            return (new_policy, stats);
+            return Some((candidate, stats));
         }
         fraction *= 0.5;
     }
-    (
-        policy,
-        StepStats {
-            expected_improvement: expected_full,
-            ..StepStats::default()
-        },
-    )
+    let stats = StepStats {
+        expected_improvement: expected_full,
+        ..StepStats::default()
+    };
+    Some((theta.to_vec(), stats))
+}
+
+/// The step's objective on burn tensors (any backend).
+struct BurnObjective<'a, B: Backend> {
+    policy: &'a GaussianPolicy<B>,
+    data: &'a StepData<B>,
+    advantages: Tensor<B, 1>,
+    fvp: FisherVectorProduct<B>,
+}
+
+impl<'a, B: Backend> BurnObjective<'a, B> {
+    fn new(
+        policy: &'a GaussianPolicy<B>,
+        data: &'a StepData<B>,
+        advantages: &[f64],
+        damping: f64,
+    ) -> Self {
+        let advantages = from_f64::<B, 1>(advantages, [advantages.len()], &data.obs.device());
+        let fvp = FisherVectorProduct::new(policy, data.obs.clone(), damping);
+        Self {
+            policy,
+            data,
+            advantages,
+            fvp,
+        }
+    }
+}
+
+impl<B: Backend> StepObjective for BurnObjective<'_, B> {
+    fn surrogate(&self, theta: &[f64]) -> f64 {
+        surrogate(
+            &vec_to_params(self.policy.clone(), theta),
+            self.data,
+            &self.advantages,
+        )
+    }
+
+    fn gradient(&self) -> Vec<f64> {
+        surrogate_gradient(self.policy, self.data, &self.advantages)
+    }
+
+    fn fisher_vector_product(&self, v: &[f64]) -> Vec<f64> {
+        self.fvp.apply(v)
+    }
+
+    fn kl_from_old(&self, theta: &[f64]) -> f64 {
+        let new = vec_to_params(self.policy.clone(), theta);
+        let kl = mean_kl(
+            self.policy.mean_action(self.data.obs.clone()),
+            self.policy.log_std.val(),
+            new.mean_action(self.data.obs.clone()),
+            new.log_std.val(),
+        );
+        to_f64(kl)[0]
+    }
+}
+
+/// The same objective on host buffers: the batch is copied out of its tensors once, the
+/// old policy's activations are cached once for the gradient and every F·v.
+struct HostObjective {
+    mean_net: HostMlp,
+    log_std: Vec<f64>,
+    obs: Vec<f64>,
+    actions: Vec<f64>,
+    logp_old: Vec<f64>,
+    advantages: Vec<f64>,
+    trace: HostTrace,
+    damping: f64,
+}
+
+impl HostObjective {
+    fn new<B: Backend>(
+        policy: &GaussianPolicy<B>,
+        data: &StepData<B>,
+        advantages: &[f64],
+        damping: f64,
+    ) -> Self {
+        let mean_net = HostMlp::from_mlp(&policy.mean);
+        let obs = to_f64(data.obs.clone());
+        let trace = mean_net.trace(&obs);
+        Self {
+            mean_net,
+            log_std: to_f64(policy.log_std.val()),
+            obs,
+            actions: to_f64(data.actions.clone()),
+            logp_old: to_f64(data.logp_old.clone()),
+            advantages: advantages.to_vec(),
+            trace,
+            damping,
+        }
+    }
+
+    /// (mean net, log σ) of a flat parameter vector.
+    fn split(&self, theta: &[f64]) -> (HostMlp, Vec<f64>) {
+        let (mean, log_std) = theta.split_at(self.mean_net.num_params());
+        (
+            HostMlp::new(self.mean_net.dims.clone(), mean.to_vec()),
+            log_std.to_vec(),
+        )
+    }
+
+    /// Per-row weights ratio_i · Â_i / N of the surrogate at means `mean` and `log_std`.
+    fn weights(&self, mean: &[f64], log_std: &[f64]) -> Vec<f64> {
+        let act_dim = log_std.len();
+        let n = self.advantages.len() as f64;
+        mean.chunks_exact(act_dim)
+            .zip(self.actions.chunks_exact(act_dim))
+            .zip(self.logp_old.iter().zip(&self.advantages))
+            .map(|((mu, a), (logp_old, adv))| {
+                let logp = host_log_prob(mu, log_std, a);
+                (logp - logp_old).exp() * adv / n
+            })
+            .collect()
+    }
+}
+
+/// log N(a; μ, σ²) summed over the action dimensions, as `gaussian_log_prob`.
+fn host_log_prob(mean: &[f64], log_std: &[f64], action: &[f64]) -> f64 {
+    const LOG_2PI: f64 = 1.837_877_066_409_345_5;
+    mean.iter()
+        .zip(log_std)
+        .zip(action)
+        .map(|((mu, ls), a)| {
+            let z = (a - mu) / ls.exp();
+            -0.5 * z * z - ls - 0.5 * LOG_2PI
+        })
+        .sum()
+}
+
+impl StepObjective for HostObjective {
+    fn surrogate(&self, theta: &[f64]) -> f64 {
+        let (mean_net, log_std) = self.split(theta);
+        self.weights(&mean_net.forward(&self.obs), &log_std)
+            .iter()
+            .sum()
+    }
+
+    /// As [`surrogate_gradient`]: ∂/∂μ = w z/σ through the reverse pass, ∂/∂log σ = Σ w (z² − 1).
+    fn gradient(&self) -> Vec<f64> {
+        let act_dim = self.log_std.len();
+        let mean = self.trace.output();
+        let w = self.weights(&mean, &self.log_std);
+        let inv_std: Vec<f64> = self.log_std.iter().map(|l| (-l).exp()).collect();
+        let mut upstream = vec![0.0; mean.len()];
+        let mut grad_log_std = vec![0.0; act_dim];
+        for (i, wi) in w.iter().enumerate() {
+            for j in 0..act_dim {
+                let k = i * act_dim + j;
+                let z = (self.actions[k] - mean[k]) * inv_std[j];
+                upstream[k] = wi * z * inv_std[j];
+                grad_log_std[j] += wi * (z * z - 1.0);
+            }
+        }
+        let mut grad = self.mean_net.vjp(&self.trace, &upstream);
+        grad.extend(grad_log_std);
+        grad
+    }
+
+    /// As [`FisherVectorProduct::apply`]: [Jᵀ M J v_μ / N ; 2 v_logσ] + damping · v.
+    fn fisher_vector_product(&self, v: &[f64]) -> Vec<f64> {
+        let act_dim = self.log_std.len();
+        let (v_mean, v_log_std) = v.split_at(self.mean_net.num_params());
+        let n = self.trace.rows() as f64;
+        let scale: Vec<f64> = self.log_std.iter().map(|l| (-2.0 * l).exp() / n).collect();
+        let mut jv = self.mean_net.jvp(&self.trace, v_mean);
+        for row in jv.chunks_exact_mut(act_dim) {
+            row.iter_mut().zip(&scale).for_each(|(x, s)| *x *= s);
+        }
+        let mut out = self.mean_net.vjp(&self.trace, &jv);
+        out.extend(v_log_std.iter().map(|x| 2.0 * x));
+        out.iter_mut()
+            .zip(v)
+            .for_each(|(o, x)| *o += self.damping * x);
+        out
+    }
+
+    /// Σ_j [log σ_new − log σ_old + (σ_old² + (μ_old − μ_new)²) / (2σ_new²) − ½], averaged.
+    fn kl_from_old(&self, theta: &[f64]) -> f64 {
+        let act_dim = self.log_std.len();
+        let (mean_net, log_std) = self.split(theta);
+        let new_mean = mean_net.forward(&self.obs);
+        let old_mean = self.trace.output();
+        let total: f64 = old_mean
+            .chunks_exact(act_dim)
+            .zip(new_mean.chunks_exact(act_dim))
+            .map(|(old, new)| {
+                (0..act_dim)
+                    .map(|j| {
+                        let (lo, ln) = (self.log_std[j], log_std[j]);
+                        let d = old[j] - new[j];
+                        ln - lo + ((2.0 * lo).exp() + d * d) / (2.0 * (2.0 * ln).exp()) - 0.5
+                    })
+                    .sum::<f64>()
+            })
+            .sum();
+        total / self.trace.rows() as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use logo_nn::{Cpu, PolicyConfig};
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The host objective (the default CPU path) against the burn one, term by term, on a
+    /// batch of 2100 rows (three host blocks) and a policy away from its initialisation.
+    #[test]
+    fn host_and_burn_objectives_agree() {
+        let device = Default::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let (rows, obs_dim, act_dim) = (2100, 4, 2);
+        let policy = PolicyConfig {
+            obs_dim,
+            act_dim,
+            hidden: vec![8, 6],
+            log_std_init: -0.4,
+        }
+        .init::<Cpu>(&device);
+        let random = |rng: &mut ChaCha8Rng, n: usize, s: f64| -> Vec<f64> {
+            (0..n).map(|_| rng.random_range(-s..s)).collect()
+        };
+        let theta = random(&mut rng, params_to_vec(&policy).len(), 0.5);
+        let policy = vec_to_params(policy, &theta);
+        let obs = random(&mut rng, rows * obs_dim, 2.0);
+        let actions = random(&mut rng, rows * act_dim, 1.5);
+        let logp_old = random(&mut rng, rows, 1.0).iter().map(|x| x - 2.0).collect::<Vec<_>>();
+        let advantages = random(&mut rng, rows, 1.0);
+        let data = StepData::<Cpu> {
+            obs: from_f64(&obs, [rows, obs_dim], &device),
+            actions: from_f64(&actions, [rows, act_dim], &device),
+            logp_old: from_f64(&logp_old, [rows], &device),
+        };
+        let burn = BurnObjective::new(&policy, &data, &advantages, 0.01);
+        let host = HostObjective::new(&policy, &data, &advantages, 0.01);
+        let close = |a: &[f64], b: &[f64], what: &str| {
+            let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let err = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            assert!(err <= 1e-12 * scale, "{what}: max error {err:e} at scale {scale:e}");
+        };
+        let moved: Vec<f64> = theta.iter().map(|t| t + 0.01 * t.signum()).collect();
+        close(&[host.surrogate(&moved)], &[burn.surrogate(&moved)], "surrogate");
+        close(&host.gradient(), &burn.gradient(), "gradient");
+        let v = random(&mut rng, theta.len(), 1.0);
+        close(
+            &host.fisher_vector_product(&v),
+            &burn.fisher_vector_product(&v),
+            "F·v",
+        );
+        close(&[host.kl_from_old(&moved)], &[burn.kl_from_old(&moved)], "KL");
+    }
 }

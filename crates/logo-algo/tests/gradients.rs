@@ -1,7 +1,8 @@
 //! The hand-written gradients the training loop uses, against burn's autodiff.
 
 use burn::module::AutodiffModule;
-use logo_algo::critic::value_loss_and_grad;
+use logo_algo::critic::{HostValueObjective, value_loss_and_grad};
+use logo_algo::lbfgs::Objective;
 use logo_algo::trpo::{StepData, surrogate_gradient};
 use logo_nn::flat::{from_f64, grads_to_vec, params_to_vec, vec_to_params};
 use logo_nn::{CpuAutodiff, PolicyConfig, ValueNetConfig};
@@ -54,6 +55,13 @@ fn the_critic_gradient_matches_autodiff() {
     );
     assert!(relative_error(&got, &want) < 1e-12, "{got:?}\nvs {want:?}");
     assert!(loss > 0.0);
+
+    // The host-buffer objective the CPU critic fits use: same loss, same gradient.
+    let mut host = HostValueObjective::new(vec![4, 6, 5, 1], &obs, &target, l2);
+    let host_loss = host.loss(&theta);
+    assert!((host_loss - loss).abs() < 1e-12 * loss, "{host_loss} vs {loss}");
+    let host_grad = host.gradient();
+    assert!(relative_error(&host_grad, &got) < 1e-12, "{host_grad:?}\nvs {got:?}");
 }
 
 #[test]

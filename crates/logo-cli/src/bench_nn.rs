@@ -16,7 +16,12 @@ use burn::tensor::backend::AutodiffBackend;
 use clap::Args;
 use logo_nn::burn;
 use logo_nn::flat::from_f64;
-use logo_nn::{Cpu32Autodiff, CpuAutodiff, FisherVectorProduct, PolicyConfig};
+use logo_algo::critic::{HostValueObjective, value_loss_and_grad};
+use logo_algo::lbfgs::Objective;
+use logo_nn::flat::params_to_vec;
+use logo_nn::{
+    Cpu, Cpu32Autodiff, CpuAutodiff, FisherVectorProduct, HostMlp, PolicyConfig, ValueNetConfig,
+};
 use serde::Serialize;
 
 use crate::bench::median;
@@ -52,6 +57,81 @@ struct NnBench {
     fvp_ms: f64,
     /// fvp_ms / forward_backward_ms, median of per-repeat ratios.
     fvp_over_forward_backward: f64,
+}
+
+/// One critic evaluation (MSE loss + gradient, a value net of the policy's sizes) at the
+/// training batch: burn on the ndarray backend vs the host-buffer path the CPU fits use.
+#[derive(Serialize)]
+struct CriticBench {
+    batch: usize,
+    burn_ms: f64,
+    host_1_thread_ms: f64,
+    host_ms: f64,
+    threads: usize,
+    /// Multiply-adds × 2 of forward + reverse, over host_ms.
+    host_gflops: f64,
+}
+
+fn bench_critic(args: &NnBenchArgs) -> CriticBench {
+    let device = Default::default();
+    let hidden = PolicyConfig::new(args.obs_dim, args.act_dim).hidden;
+    let net = ValueNetConfig {
+        obs_dim: args.obs_dim,
+        hidden: hidden.clone(),
+    }
+    .init::<Cpu>(&device);
+    let obs: Vec<f64> = (0..args.batch * args.obs_dim)
+        .map(|k| ((k as f64) * 0.37).sin())
+        .collect();
+    let target: Vec<f64> = (0..args.batch).map(|k| ((k as f64) * 0.3).cos()).collect();
+    let theta = params_to_vec(&net);
+    let dims = HostMlp::from_mlp(&net.net).dims;
+    let host = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool");
+        let mut objective = HostValueObjective::new(dims.clone(), &obs, &target, 1e-3);
+        let samples = (0..args.repeats)
+            .map(|_| {
+                time(|| {
+                    pool.install(|| {
+                        std::hint::black_box(objective.loss(&theta));
+                        std::hint::black_box(objective.gradient());
+                    })
+                })
+                .1
+            })
+            .collect();
+        median(samples) * 1e3
+    };
+    let (obs_t, target_t) = (
+        from_f64::<Cpu, 2>(&obs, [args.batch, args.obs_dim], &device),
+        from_f64::<Cpu, 2>(&target, [args.batch, 1], &device),
+    );
+    let burn_ms = median(
+        (0..args.repeats)
+            .map(|_| {
+                time(|| {
+                    value_loss_and_grad(&net, obs_t.clone(), target_t.clone(), &theta, 1e-3)
+                })
+                .1
+            })
+            .collect(),
+    ) * 1e3;
+    let threads = rayon::current_num_threads();
+    let (host_1_thread_ms, host_ms) = (host(1), host(threads));
+    let multiply_adds: usize = dims.windows(2).map(|w| w[0] * w[1]).sum::<usize>()
+        + dims[1..dims.len() - 1].iter().zip(&dims[2..]).map(|(a, b)| a * b).sum::<usize>()
+        + dims.windows(2).map(|w| w[0] * w[1]).sum::<usize>();
+    CriticBench {
+        batch: args.batch,
+        burn_ms,
+        host_1_thread_ms,
+        host_ms,
+        threads,
+        host_gflops: 2.0 * (multiply_adds * args.batch) as f64 / (host_ms * 1e-3) / 1e9,
+    }
 }
 
 fn time<T>(f: impl FnOnce() -> T) -> (T, f64) {
@@ -141,8 +221,10 @@ pub fn run(args: &NnBenchArgs) -> Result<()> {
         bench::<CpuAutodiff>("f64", args),
         bench::<Cpu32Autodiff>("f32", args),
     ];
+    let critic = bench_critic(args);
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&results)?);
+        let all = serde_json::json!({ "policy": results, "critic": critic });
+        println!("{}", serde_json::to_string_pretty(&all)?);
         return Ok(());
     }
     println!(
@@ -170,6 +252,16 @@ pub fn run(args: &NnBenchArgs) -> Result<()> {
         args.rollout_batch,
         args.batch,
         args.repeats
+    );
+    println!(
+        "critic loss+gradient (f64, batch {}): burn {:.1} ms, host {:.1} ms on 1 thread, \
+         {:.1} ms on {} ({:.1} GFLOP/s)",
+        critic.batch,
+        critic.burn_ms,
+        critic.host_1_thread_ms,
+        critic.host_ms,
+        critic.threads,
+        critic.host_gflops
     );
     Ok(())
 }

@@ -5,7 +5,6 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use logo_envs::{Env, EnvFactory, EnvOptions};
-use logo_nn::flat::{from_f64, to_f64};
 use logo_nn::{Checkpoint, Cpu, PolicyConfig};
 
 use crate::rollout::mean_std;
@@ -71,17 +70,14 @@ pub fn run(args: &EvalArgs) -> Result<()> {
             meta.obs_dim,
             meta.act_dim
         );
+        let acting = policy.acting();
         let mut obs = vec![0.0; spec.obs_dim];
         let (mut returns, mut dense, mut lengths) = (Vec::new(), Vec::new(), Vec::new());
         for episode in 0..args.episodes {
             env.reset(Some(args.seed + episode as u64), &mut obs);
             let (mut r, mut d, mut n) = (0.0, 0.0, 0.0);
             loop {
-                let action = to_f64(policy.mean_action(from_f64(
-                    &obs,
-                    [1, spec.obs_dim],
-                    &Default::default(),
-                )));
+                let action = acting.mean(&obs);
                 let step = env.step(&action, &mut obs)?;
                 (r, d, n) = (r + step.reward, d + step.info.dense_reward, n + 1.0);
                 if step.done() {

@@ -10,6 +10,7 @@ pub mod critic;
 pub mod discriminator;
 pub mod fisher;
 pub mod flat;
+pub mod host;
 pub mod mlp;
 pub mod policy;
 pub mod torch_import;
@@ -20,8 +21,9 @@ pub use checkpoint::{Checkpoint, CheckpointError, CheckpointMeta};
 pub use critic::{TwinCritic, ValueNet, ValueNetConfig};
 pub use discriminator::{Discriminator, DiscriminatorConfig};
 pub use fisher::{FisherVectorProduct, conjugate_gradient, mean_kl};
+pub use host::{HostMlp, HostTrace};
 pub use mlp::{Mlp, MlpConfig};
-pub use policy::{GaussianPolicy, PolicyConfig};
+pub use policy::{ActingPolicy, GaussianPolicy, PolicyConfig};
 pub use torch_import::{ImportError, load_reference_policy};
 
 /// ndarray, float64: the default (the reference implementation computes in float64).

@@ -7,7 +7,8 @@ use rand::Rng;
 use rand_distr::StandardNormal;
 use serde::{Deserialize, Serialize};
 
-use crate::flat::to_f64;
+use crate::flat::{from_f64, to_f64};
+use crate::host::{HostMlp, is_host_backend};
 use crate::mlp::{Mlp, MlpConfig};
 
 const LOG_2PI: f64 = 1.837_877_066_409_345_5; // ln(2π)
@@ -100,15 +101,58 @@ impl<B: Backend> GaussianPolicy<B> {
             .add_scalar(0.5 * d * (1.0 + LOG_2PI))
     }
 
-    /// Samples a ~ π(·|s) for every row of `obs`, with the caller's generator (so a seed
-    /// fixes the rollout). Returns `rows * act_dim` values, row-major; unclipped, as the
-    /// reference stores them (MuJoCo clamps to the control range).
-    pub fn sample<R: Rng>(&self, obs: Tensor<B, 2>, rng: &mut R) -> Vec<f64> {
-        let mut actions = to_f64(self.mean.forward(obs));
-        let std: Vec<f64> = to_f64(self.log_std.val().exp());
+    /// A frozen copy for acting (rollouts, evaluation, recording): observations in, actions
+    /// out, as host vectors. On the default CPU backend the mean net runs on host buffers
+    /// (`crate::host`): a batch-1 forward through burn-ndarray costs tens of µs in
+    /// allocations, more than the physics step it drives.
+    pub fn acting(&self) -> ActingPolicy<B> {
+        let mean = if is_host_backend::<B>() {
+            MeanNet::Host(HostMlp::from_mlp(&self.mean))
+        } else {
+            MeanNet::Burn(self.mean.clone())
+        };
+        ActingPolicy {
+            mean,
+            std: to_f64(self.log_std.val().exp()),
+            obs_dim: self.obs_dim(),
+        }
+    }
+
+}
+
+enum MeanNet<B: Backend> {
+    Host(HostMlp),
+    Burn(Mlp<B>),
+}
+
+/// See [`GaussianPolicy::acting`].
+pub struct ActingPolicy<B: Backend> {
+    mean: MeanNet<B>,
+    std: Vec<f64>,
+    obs_dim: usize,
+}
+
+impl<B: Backend> ActingPolicy<B> {
+    /// μ(s) for every row of `obs` (`rows * obs_dim` values, row-major).
+    pub fn mean(&self, obs: &[f64]) -> Vec<f64> {
+        match &self.mean {
+            MeanNet::Host(net) => net.forward(obs),
+            MeanNet::Burn(net) => {
+                let rows = obs.len() / self.obs_dim;
+                let device = net.layers[0].weight.device();
+                to_f64(net.forward(from_f64(obs, [rows, self.obs_dim], &device)))
+            }
+        }
+    }
+
+    /// a ~ π(·|s) for every row of `obs`, with the caller's generator (so a seed fixes the
+    /// rollout); `rows * act_dim` values, row-major. Unclipped, as the reference stores
+    /// them (MuJoCo clamps to the control range).
+    pub fn sample<R: Rng>(&self, obs: &[f64], rng: &mut R) -> Vec<f64> {
+        let mut actions = self.mean(obs);
         for (i, a) in actions.iter_mut().enumerate() {
             let noise: f64 = rng.sample(StandardNormal);
-            *a += std[i % std.len()] * noise;
+            *a += self.std[i % self.std.len()] * noise;
         }
         actions
     }

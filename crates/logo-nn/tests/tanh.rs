@@ -33,6 +33,9 @@ fn fast_tanh_is_within_a_few_ulp_of_libm() {
         worst_ulp = worst_ulp.max(ulp);
     }
     assert!(ys.iter().all(|y| y.abs() <= 1.0));
+    let mut nan = [f64::NAN, 1.0];
+    tanh_f64_in_place(&mut nan);
+    assert!(nan[0].is_nan(), "NaN must stay NaN, got {}", nan[0]);
     eprintln!("worst: {worst_ulp} ulp");
 }
 

@@ -1,0 +1,89 @@
+//! The host-buffer MLP (`logo_nn::host`) against the burn definition in `mlp.rs`.
+
+use burn::backend::ndarray::NdArrayDevice;
+use logo_nn::flat::{flatten_layers, from_f64, split_layers, to_f64, vec_to_params};
+use logo_nn::{Cpu, HostMlp, Mlp, MlpConfig};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// 2500 rows: two full blocks of 1024 and a partial one.
+const ROWS: usize = 2500;
+
+fn random(rng: &mut ChaCha8Rng, n: usize, scale: f64) -> Vec<f64> {
+    (0..n).map(|_| rng.random_range(-scale..scale)).collect()
+}
+
+fn setup() -> (Mlp<Cpu>, HostMlp, Vec<f64>, ChaCha8Rng) {
+    let device = NdArrayDevice::Cpu;
+    let config = MlpConfig {
+        input: 5,
+        hidden: vec![16, 12],
+        output: 3,
+        output_scale: None,
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let theta = random(&mut rng, config.num_params(), 0.6);
+    let mlp = vec_to_params(config.init::<Cpu>(&device), &theta);
+    let host = HostMlp::from_mlp(&mlp);
+    assert_eq!(host.params, theta);
+    assert_eq!(host.dims, vec![5, 16, 12, 3]);
+    let x = random(&mut rng, ROWS * 5, 2.0);
+    (mlp, host, x, rng)
+}
+
+fn max_relative_error(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs() / scale))
+}
+
+#[test]
+fn forward_jvp_and_vjp_match_the_burn_mlp() {
+    let (mlp, host, x, mut rng) = setup();
+    let device = NdArrayDevice::Cpu;
+    let x_tensor = from_f64::<Cpu, 2>(&x, [ROWS, 5], &device);
+    let (inputs, out) = mlp.forward_trace(x_tensor);
+    let trace = host.trace(&x);
+    assert_eq!(trace.rows(), ROWS);
+    let forward_error = max_relative_error(&trace.output(), &to_f64(out));
+    assert!(forward_error < 1e-13, "forward: {forward_error:e}");
+
+    let tangent = random(&mut rng, host.num_params(), 1.0);
+    let burn_jvp = to_f64(mlp.jvp(&inputs, &split_layers(&mlp, &tangent, &device)));
+    let jvp_error = max_relative_error(&host.jvp(&trace, &tangent), &burn_jvp);
+    assert!(jvp_error < 1e-12, "jvp: {jvp_error:e}");
+
+    let upstream = random(&mut rng, ROWS * 3, 1.0);
+    let burn_vjp = flatten_layers(mlp.vjp(&inputs, from_f64(&upstream, [ROWS, 3], &device)));
+    let vjp_error = max_relative_error(&host.vjp(&trace, &upstream), &burn_vjp);
+    assert!(vjp_error < 1e-12, "vjp: {vjp_error:e}");
+}
+
+#[test]
+fn results_do_not_depend_on_the_number_of_threads() {
+    let (_, host, x, mut rng) = setup();
+    let upstream = random(&mut rng, ROWS * 3, 1.0);
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let trace = host.trace(&x);
+            (trace.output(), host.vjp(&trace, &upstream))
+        })
+    };
+    let one = run(1);
+    assert_eq!(one, run(2), "1 vs 2 threads");
+    assert_eq!(one, run(3), "1 vs 3 threads");
+}
+
+#[test]
+#[should_panic(expected = "upstream of the wrong shape")]
+fn a_wrong_upstream_shape_is_caught() {
+    let (_, host, x, _) = setup();
+    let trace = host.trace(&x);
+    host.vjp(&trace, &[0.0; 3]);
+}
