@@ -57,11 +57,22 @@ pub fn tanh<B: Backend, const D: usize>(x: Tensor<B, D>) -> Tensor<B, D> {
 pub fn tanh_f64_in_place(values: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU has the features this copy is compiled for (checked just above).
-        unsafe { tanh_avx2_fma(values) };
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has the features this copy is compiled for (checked here).
+            unsafe { tanh_avx512(values) };
+        } else {
+            // SAFETY: as above.
+            unsafe { tanh_avx2_fma(values) };
+        }
         return;
     }
     tanh_loop::<false>(values);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2,fma")]
+unsafe fn tanh_avx512(values: &mut [f64]) {
+    tanh_loop::<true>(values);
 }
 
 #[cfg(target_arch = "x86_64")]
