@@ -63,7 +63,8 @@ pub struct TrainConfig {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GuidanceConfig {
-    /// Demonstrations, `[obs ‖ action]` rows (`.npy`), for the discriminator.
+    /// Demonstrations for the discriminator: a Minari dataset folder, or a LOGO `.npy`
+    /// array of `[obs ‖ action]` rows.
     pub demos: Option<PathBuf>,
     /// A known behaviour policy (`.pt`): C = log(π_k / π_b) replaces the discriminator.
     pub behaviour_policy: Option<PathBuf>,
@@ -194,9 +195,9 @@ impl TrainConfig {
                 ("guidance.behaviour_policy", &g.behaviour_policy),
             ] {
                 if let Some(p) = p
-                    && !p.is_file()
+                    && !p.exists()
                 {
-                    return Err(format!("{key}: file {} not found", p.display()));
+                    return Err(format!("{key}: {} not found", p.display()));
                 }
             }
             let ok = g.delta0.is_finite() && g.delta0 > 0.0 && g.alpha > 0.0 && g.alpha <= 1.0;

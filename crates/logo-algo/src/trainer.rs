@@ -200,7 +200,7 @@ impl<B: AutodiffBackend> Trainer<B> {
                         .demos
                         .as_ref()
                         .expect("validated: demos or behaviour_policy");
-                    let demos = Demonstrations::from_npy(path, spec.obs_dim, spec.act_dim)
+                    let demos = Demonstrations::load(path, spec.obs_dim, spec.act_dim)
                         .map_err(|e| format!("guidance.demos: {e}"))?;
                     let observe = g.observe.unwrap_or(spec.obs_dim);
                     if observe == 0 || observe > spec.obs_dim {

@@ -6,8 +6,8 @@
 use burn::tensor::Tensor;
 use burn::tensor::backend::Backend;
 use logo_nn::flat::{flatten_layers, from_f64, params_to_vec, to_f64, vec_to_params};
-use logo_nn::policy::gaussian_log_prob;
 use logo_nn::host::is_host_backend;
+use logo_nn::policy::gaussian_log_prob;
 use logo_nn::{
     FisherVectorProduct, GaussianPolicy, HostMlp, HostTrace, conjugate_gradient, mean_kl,
 };
@@ -122,9 +122,19 @@ pub fn trpo_step<B: Backend>(
 ) -> (GaussianPolicy<B>, StepStats) {
     let theta = params_to_vec(&policy);
     let objective: Box<dyn StepObjective + '_> = if is_host_backend::<B>() {
-        Box::new(HostObjective::new(&policy, data, advantages, config.damping))
+        Box::new(HostObjective::new(
+            &policy,
+            data,
+            advantages,
+            config.damping,
+        ))
     } else {
-        Box::new(BurnObjective::new(&policy, data, advantages, config.damping))
+        Box::new(BurnObjective::new(
+            &policy,
+            data,
+            advantages,
+            config.damping,
+        ))
     };
     let result = natural_gradient_step(&*objective, &theta, max_kl, config);
     drop(objective);
@@ -415,7 +425,10 @@ mod tests {
         let policy = vec_to_params(policy, &theta);
         let obs = random(&mut rng, rows * obs_dim, 2.0);
         let actions = random(&mut rng, rows * act_dim, 1.5);
-        let logp_old = random(&mut rng, rows, 1.0).iter().map(|x| x - 2.0).collect::<Vec<_>>();
+        let logp_old = random(&mut rng, rows, 1.0)
+            .iter()
+            .map(|x| x - 2.0)
+            .collect::<Vec<_>>();
         let advantages = random(&mut rng, rows, 1.0);
         let data = StepData::<Cpu> {
             obs: from_f64(&obs, [rows, obs_dim], &device),
@@ -426,11 +439,21 @@ mod tests {
         let host = HostObjective::new(&policy, &data, &advantages, 0.01);
         let close = |a: &[f64], b: &[f64], what: &str| {
             let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let err = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-            assert!(err <= 1e-12 * scale, "{what}: max error {err:e} at scale {scale:e}");
+            let err = a
+                .iter()
+                .zip(b)
+                .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            assert!(
+                err <= 1e-12 * scale,
+                "{what}: max error {err:e} at scale {scale:e}"
+            );
         };
         let moved: Vec<f64> = theta.iter().map(|t| t + 0.01 * t.signum()).collect();
-        close(&[host.surrogate(&moved)], &[burn.surrogate(&moved)], "surrogate");
+        close(
+            &[host.surrogate(&moved)],
+            &[burn.surrogate(&moved)],
+            "surrogate",
+        );
         close(&host.gradient(), &burn.gradient(), "gradient");
         let v = random(&mut rng, theta.len(), 1.0);
         close(
@@ -438,6 +461,10 @@ mod tests {
             &burn.fisher_vector_product(&v),
             "F·v",
         );
-        close(&[host.kl_from_old(&moved)], &[burn.kl_from_old(&moved)], "KL");
+        close(
+            &[host.kl_from_old(&moved)],
+            &[burn.kl_from_old(&moved)],
+            "KL",
+        );
     }
 }

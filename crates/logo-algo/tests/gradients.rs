@@ -59,9 +59,15 @@ fn the_critic_gradient_matches_autodiff() {
     // The host-buffer objective the CPU critic fits use: same loss, same gradient.
     let mut host = HostValueObjective::new(vec![4, 6, 5, 1], &obs, &target, l2);
     let host_loss = host.loss(&theta);
-    assert!((host_loss - loss).abs() < 1e-12 * loss, "{host_loss} vs {loss}");
+    assert!(
+        (host_loss - loss).abs() < 1e-12 * loss,
+        "{host_loss} vs {loss}"
+    );
     let host_grad = host.gradient();
-    assert!(relative_error(&host_grad, &got) < 1e-12, "{host_grad:?}\nvs {got:?}");
+    assert!(
+        relative_error(&host_grad, &got) < 1e-12,
+        "{host_grad:?}\nvs {got:?}"
+    );
 }
 
 #[test]

@@ -14,10 +14,10 @@ use anyhow::Result;
 use burn::module::AutodiffModule;
 use burn::tensor::backend::AutodiffBackend;
 use clap::Args;
-use logo_nn::burn;
-use logo_nn::flat::from_f64;
 use logo_algo::critic::{HostValueObjective, value_loss_and_grad};
 use logo_algo::lbfgs::Objective;
+use logo_nn::burn;
+use logo_nn::flat::from_f64;
 use logo_nn::flat::params_to_vec;
 use logo_nn::{
     Cpu, Cpu32Autodiff, CpuAutodiff, FisherVectorProduct, HostMlp, PolicyConfig, ValueNetConfig,
@@ -112,17 +112,18 @@ fn bench_critic(args: &NnBenchArgs) -> CriticBench {
     let burn_ms = median(
         (0..args.repeats)
             .map(|_| {
-                time(|| {
-                    value_loss_and_grad(&net, obs_t.clone(), target_t.clone(), &theta, 1e-3)
-                })
-                .1
+                time(|| value_loss_and_grad(&net, obs_t.clone(), target_t.clone(), &theta, 1e-3)).1
             })
             .collect(),
     ) * 1e3;
     let threads = rayon::current_num_threads();
     let (host_1_thread_ms, host_ms) = (host(1), host(threads));
     let multiply_adds: usize = dims.windows(2).map(|w| w[0] * w[1]).sum::<usize>()
-        + dims[1..dims.len() - 1].iter().zip(&dims[2..]).map(|(a, b)| a * b).sum::<usize>()
+        + dims[1..dims.len() - 1]
+            .iter()
+            .zip(&dims[2..])
+            .map(|(a, b)| a * b)
+            .sum::<usize>()
         + dims.windows(2).map(|w| w[0] * w[1]).sum::<usize>();
     CriticBench {
         batch: args.batch,

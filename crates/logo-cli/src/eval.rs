@@ -1,11 +1,11 @@
 //! `logo eval`: the mean-action policy of a checkpoint on the dense and the sparse env.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::Args;
 use logo_envs::{Env, EnvFactory, EnvOptions};
-use logo_nn::{Checkpoint, Cpu, PolicyConfig};
+use logo_nn::{Checkpoint, CheckpointMeta, Cpu, GaussianPolicy, PolicyConfig};
 
 use crate::rollout::mean_std;
 
@@ -23,16 +23,14 @@ pub struct EvalArgs {
     seed: u64,
 }
 
-pub fn run(args: &EvalArgs) -> Result<()> {
-    anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
-    let ckpt = Checkpoint::load(&args.checkpoint)?;
+/// The policy stored in a checkpoint, and the checkpoint's metadata.
+pub fn load_policy(path: &Path) -> Result<(GaussianPolicy<Cpu>, CheckpointMeta)> {
+    let ckpt = Checkpoint::load(path)?;
     let meta = &ckpt.meta;
-    let hidden = meta.networks.get("policy").with_context(|| {
-        format!(
-            "{}: the metadata lists no policy network",
-            args.checkpoint.display()
-        )
-    })?;
+    let hidden = meta
+        .networks
+        .get("policy")
+        .with_context(|| format!("{}: the metadata lists no policy network", path.display()))?;
     let config = PolicyConfig {
         obs_dim: meta.obs_dim,
         act_dim: meta.act_dim,
@@ -40,6 +38,13 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         log_std_init: 0.0,
     };
     let policy = ckpt.apply("policy", config.init::<Cpu>(&Default::default()))?;
+    Ok((policy, ckpt.meta))
+}
+
+pub fn run(args: &EvalArgs) -> Result<()> {
+    anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
+    let (policy, meta) = load_policy(&args.checkpoint)?;
+    let meta = &meta;
     let dense_id = meta
         .env_id
         .strip_prefix("Sparse")

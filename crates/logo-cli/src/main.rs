@@ -2,6 +2,7 @@
 
 mod bench;
 mod bench_nn;
+mod data;
 mod eval;
 mod rollout;
 mod train;
@@ -34,6 +35,9 @@ enum Command {
     /// Measure throughput (see docs/benchmarks.md).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Demonstration datasets: import, inspect, record.
+    #[command(subcommand)]
+    Data(data::DataCommand),
 }
 
 /// glibc hands every allocation above 128 KiB to `mmap` and returns it on free, so each
@@ -65,6 +69,7 @@ fn main() -> ExitCode {
         Command::Train(args) => train::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Bench(cmd) => bench::run(&cmd),
+        Command::Data(cmd) => data::run(&cmd),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

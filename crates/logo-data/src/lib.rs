@@ -1,13 +1,16 @@
-//! Demonstration datasets.
-//!
-//! Now: the LOGO paper's own demonstrations, `.npy` arrays of rows `[obs ‖ action]`
-//! (`../shared/reference/logo-demos/`), read and validated. Minari/D4RL formats, episode
-//! splitting, recording and inspection come with issue 5.
+//! Demonstration datasets: episodes in Minari's HDF5 layout ([`minari`]), imports from
+//! the LOGO `.npy` arrays and D4RL files ([`import`]), validation, and the state-action
+//! pairs LOGO's discriminator trains on ([`Demonstrations`]).
 
+pub mod dataset;
+pub mod import;
+pub mod minari;
 mod npy;
 
 use std::path::{Path, PathBuf};
 
+pub use dataset::{Dataset, Episode};
+pub use minari::{is_minari_dir, read_minari, write_minari};
 pub use npy::{NpyArray, read_npy, write_npy};
 
 #[derive(Debug, thiserror::Error)]
@@ -36,6 +39,26 @@ pub enum DataError {
     },
     #[error("{}: no demonstration rows", path.display())]
     Empty { path: PathBuf },
+    #[error("{}: not a readable HDF5 file: {reason}", path.display())]
+    Hdf5 { path: PathBuf, reason: String },
+    #[error("{}: {}{field}: {reason}", path.display(), episode.map(|e| format!("episode {e}, ")).unwrap_or_default())]
+    Field {
+        path: PathBuf,
+        episode: Option<usize>,
+        field: String,
+        reason: String,
+    },
+}
+
+impl DataError {
+    pub(crate) fn field(path: &Path, episode: Option<usize>, field: &str, reason: &str) -> Self {
+        Self::Field {
+            path: path.to_path_buf(),
+            episode,
+            field: field.to_string(),
+            reason: reason.to_string(),
+        }
+    }
 }
 
 /// State-action pairs from demonstrations, row-major.
@@ -55,6 +78,33 @@ impl Demonstrations {
 
     pub fn is_empty(&self) -> bool {
         self.obs.is_empty()
+    }
+
+    /// Loads demonstrations from a Minari dataset folder or a LOGO `.npy` array, checking
+    /// the dims against the env's.
+    pub fn load(path: &Path, obs_dim: usize, act_dim: usize) -> Result<Self, DataError> {
+        if !path.is_dir() {
+            return Self::from_npy(path, obs_dim, act_dim);
+        }
+        let dataset = read_minari(path)?;
+        dataset.check_dims(path, obs_dim, act_dim)?;
+        Ok(Self::from_dataset(&dataset, path))
+    }
+
+    /// Every (observation, action) pair of every episode (final observations excluded).
+    pub fn from_dataset(dataset: &Dataset, source: &Path) -> Self {
+        let (mut obs, mut actions) = (Vec::new(), Vec::new());
+        for ep in &dataset.episodes {
+            obs.extend_from_slice(&ep.observations[..ep.steps() * dataset.obs_dim]);
+            actions.extend_from_slice(&ep.actions);
+        }
+        Self {
+            obs_dim: dataset.obs_dim,
+            act_dim: dataset.act_dim,
+            obs,
+            actions,
+            source: source.to_path_buf(),
+        }
     }
 
     /// Reads a `[rows, obs_dim + act_dim]` float64 `.npy` array of `[obs ‖ action]` rows,

@@ -102,7 +102,11 @@ fn gemm(
 impl HostMlp {
     pub fn new(dims: Vec<usize>, params: Vec<f64>) -> Self {
         assert!(dims.len() >= 2, "an MLP has at least one layer");
-        assert_eq!(params.len(), num_params(&dims), "parameters of the wrong length");
+        assert_eq!(
+            params.len(),
+            num_params(&dims),
+            "parameters of the wrong length"
+        );
         Self { dims, params }
     }
 
@@ -130,7 +134,10 @@ impl HostMlp {
         let offset = num_params(&self.dims[..=i]);
         let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
         let w = &flat[offset..offset + fan_in * fan_out];
-        (w, &flat[offset + fan_in * fan_out..offset + fan_in * fan_out + fan_out])
+        (
+            w,
+            &flat[offset + fan_in * fan_out..offset + fan_in * fan_out + fan_out],
+        )
     }
 
     fn layers(&self) -> usize {
@@ -189,7 +196,11 @@ impl HostMlp {
     /// Forward-mode derivative of the output along the parameter direction `tangent`
     /// (laid out like `params`): dz = x·dW + db + dx·W, dh = (1 − h²) ⊙ dz.
     pub fn jvp(&self, trace: &HostTrace, tangent: &[f64]) -> Vec<f64> {
-        assert_eq!(tangent.len(), self.num_params(), "tangent of the wrong length");
+        assert_eq!(
+            tangent.len(),
+            self.num_params(),
+            "tangent of the wrong length"
+        );
         let blocks: Vec<Vec<f64>> = trace
             .blocks
             .par_iter()
@@ -262,7 +273,8 @@ impl HostMlp {
         for i in (0..self.layers()).rev() {
             let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
             let offset = num_params(&self.dims[..=i]);
-            let (gw, gb) = grad[offset..offset + fan_in * fan_out + fan_out].split_at_mut(fan_in * fan_out);
+            let (gw, gb) =
+                grad[offset..offset + fan_in * fan_out + fan_out].split_at_mut(fan_in * fan_out);
             // gW = xᵀ·dz: x read transposed through its strides.
             gemm(
                 (fan_in, rows, fan_out),

@@ -117,7 +117,6 @@ impl<B: Backend> GaussianPolicy<B> {
             obs_dim: self.obs_dim(),
         }
     }
-
 }
 
 enum MeanNet<B: Backend> {

@@ -1,0 +1,313 @@
+//! `logo data`: import, inspect and record demonstration datasets (Minari layout).
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use logo_data::import::{import_d4rl, import_logo_npy};
+use logo_data::minari::box_space;
+use logo_data::{Dataset, Episode, is_minari_dir, read_minari, write_minari};
+use logo_envs::{Env, EnvFactory, EnvOptions};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde_json::{Value, json};
+
+use crate::eval::load_policy;
+use crate::rollout::mean_std;
+
+#[derive(Subcommand)]
+pub enum DataCommand {
+    /// Convert demonstrations from another layout into a Minari dataset folder.
+    Import(ImportArgs),
+    /// Print a dataset's episodes, steps, returns and dims.
+    Inspect(InspectArgs),
+    /// Run a checkpoint's policy and record its episodes as a Minari dataset.
+    Record(RecordArgs),
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Source {
+    /// `[obs ‖ action]` rows with no episode markers (the LOGO paper's demonstrations).
+    LogoNpy,
+    /// Flat HDF5 with observations, actions, rewards, terminals, timeouts.
+    D4rl,
+}
+
+#[derive(Args)]
+pub struct ImportArgs {
+    #[arg(long, value_enum)]
+    from: Source,
+    input: PathBuf,
+    /// The env the demonstrations come from (needed for `logo-npy`: dims and reset pose).
+    #[arg(long)]
+    env: Option<String>,
+    /// Output dataset folder.
+    #[arg(long)]
+    out: PathBuf,
+    /// Minari dataset id written in the metadata.
+    #[arg(long)]
+    dataset_id: Option<String>,
+}
+
+#[derive(Args)]
+pub struct InspectArgs {
+    /// A Minari dataset folder (or a LOGO `.npy` array, with --env).
+    path: PathBuf,
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct RecordArgs {
+    #[arg(long)]
+    policy: PathBuf,
+    /// Env id; a sparse id stores the sparse reward, a dense id the dense one. Both
+    /// returns of every episode go in the metadata either way.
+    #[arg(long)]
+    env: String,
+    #[arg(long)]
+    episodes: usize,
+    /// Act with the mean action instead of sampling.
+    #[arg(long)]
+    deterministic: bool,
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    #[arg(long)]
+    out: PathBuf,
+    #[arg(long)]
+    dataset_id: Option<String>,
+}
+
+pub fn run(cmd: &DataCommand) -> Result<()> {
+    match cmd {
+        DataCommand::Import(args) => import(args),
+        DataCommand::Inspect(args) => inspect(args),
+        DataCommand::Record(args) => record(args),
+    }
+}
+
+/// Minari metadata for an env: its id and its spaces.
+fn env_metadata(dataset: &mut Dataset, env_id: &str) -> Result<()> {
+    let env = EnvFactory::new(env_id, &EnvOptions::default())
+        .with_context(|| format!("--env {env_id}"))?;
+    let spec = env.spec();
+    let n = spec.obs_dim;
+    let meta = &mut dataset.metadata;
+    meta.insert("logo_env_id".into(), env_id.into());
+    meta.insert(
+        "observation_space".into(),
+        box_space(&vec![f64::NEG_INFINITY; n], &vec![f64::INFINITY; n]).into(),
+    );
+    meta.insert(
+        "action_space".into(),
+        box_space(&spec.action_low, &spec.action_high).into(),
+    );
+    Ok(())
+}
+
+fn import(args: &ImportArgs) -> Result<()> {
+    let mut dataset = match args.from {
+        Source::LogoNpy => {
+            let env_id = args
+                .env
+                .as_deref()
+                .context("--env is needed to import a LOGO .npy (dims and reset pose)")?;
+            let factory = EnvFactory::new(env_id, &EnvOptions::default())
+                .with_context(|| format!("--env {env_id}"))?;
+            let spec = factory.spec();
+            import_logo_npy(
+                &args.input,
+                env_id,
+                spec.obs_dim,
+                spec.act_dim,
+                spec.max_episode_steps,
+            )?
+        }
+        Source::D4rl => import_d4rl(&args.input)?,
+    };
+    if let Some(env_id) = &args.env {
+        env_metadata(&mut dataset, env_id)?;
+    }
+    if let Some(id) = &args.dataset_id {
+        dataset
+            .metadata
+            .insert("dataset_id".into(), id.as_str().into());
+    }
+    write_minari(&dataset, &args.out)?;
+    println!(
+        "{} -> {}: {} episodes, {} steps",
+        args.input.display(),
+        args.out.display(),
+        dataset.episodes.len(),
+        dataset.total_steps()
+    );
+    Ok(())
+}
+
+fn inspect(args: &InspectArgs) -> Result<()> {
+    anyhow::ensure!(
+        is_minari_dir(&args.path),
+        "{}: not a Minari dataset folder (expected data/main_data.hdf5 inside)",
+        args.path.display()
+    );
+    let dataset = read_minari(&args.path)?;
+    let lengths: Vec<usize> = dataset.episodes.iter().map(Episode::steps).collect();
+    let returns: Vec<f64> = dataset.episodes.iter().map(Episode::total_reward).collect();
+    let (mean, std) = mean_std(&returns);
+    let meta = &dataset.metadata;
+    let dense: Option<Vec<f64>> = meta
+        .get("logo_dense_returns")
+        .and_then(Value::as_array)
+        .map(|v| v.iter().filter_map(Value::as_f64).collect());
+    let summary = json!({
+        "path": args.path.display().to_string(),
+        "dataset_id": meta.get("dataset_id"),
+        "env_id": dataset.env_id(),
+        "obs_dim": dataset.obs_dim,
+        "act_dim": dataset.act_dim,
+        "episodes": dataset.episodes.len(),
+        "steps": dataset.total_steps(),
+        "episode_lengths": lengths,
+        "return_mean": mean,
+        "return_std": std,
+        "return_min": returns.iter().copied().fold(f64::INFINITY, f64::min),
+        "return_max": returns.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        "dense_returns": dense,
+        "terminated": dataset.episodes.iter().filter(|e| e.terminations.last() == Some(&true)).count(),
+        "truncated": dataset.episodes.iter().filter(|e| e.truncations.last() == Some(&true)).count(),
+    });
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+        return Ok(());
+    }
+    println!(
+        "{}: {} ({})",
+        args.path.display(),
+        meta.get("dataset_id")
+            .and_then(Value::as_str)
+            .unwrap_or("?"),
+        dataset.env_id().unwrap_or("env unknown")
+    );
+    println!(
+        "  {} episodes, {} steps, obs dim {}, action dim {}",
+        dataset.episodes.len(),
+        dataset.total_steps(),
+        dataset.obs_dim,
+        dataset.act_dim
+    );
+    println!("  episode lengths: {lengths:?}");
+    println!(
+        "  return (stored rewards): {mean:.2} ± {std:.2} (min {:.2}, max {:.2})",
+        summary["return_min"].as_f64().unwrap_or(f64::NAN),
+        summary["return_max"].as_f64().unwrap_or(f64::NAN)
+    );
+    if let Some(dense) = &dense {
+        let (m, s) = mean_std(dense);
+        println!("  dense return (metadata): {m:.2} ± {s:.2}");
+    }
+    if let Some(notes) = meta.get("logo_notes").and_then(Value::as_str) {
+        println!("  notes: {notes}");
+    }
+    Ok(())
+}
+
+fn record(args: &RecordArgs) -> Result<()> {
+    anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
+    let (policy, meta) = load_policy(&args.policy)?;
+    let sparse_requested = args.env.starts_with("Sparse");
+    let sparse_id = if sparse_requested {
+        args.env.clone()
+    } else {
+        format!("Sparse{}", args.env)
+    };
+    let mut env = EnvFactory::new(&sparse_id, &EnvOptions::default())
+        .with_context(|| format!("--env {}", args.env))?
+        .build();
+    let spec = env.spec().clone();
+    anyhow::ensure!(
+        (spec.obs_dim, spec.act_dim) == (meta.obs_dim, meta.act_dim),
+        "{}: the policy has obs/action dims ({}, {}), {} has ({}, {})",
+        args.policy.display(),
+        meta.obs_dim,
+        meta.act_dim,
+        args.env,
+        spec.obs_dim,
+        spec.act_dim
+    );
+    let acting = policy.acting();
+    let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
+    let mut episodes = Vec::new();
+    let (mut dense_returns, mut sparse_returns) = (Vec::new(), Vec::new());
+    let mut obs = vec![0.0; spec.obs_dim];
+    for k in 0..args.episodes {
+        env.reset(Some(args.seed * 1_000_003 + k as u64), &mut obs);
+        let mut ep = Episode {
+            observations: obs.clone(),
+            ..Default::default()
+        };
+        let (mut dense, mut sparse) = (0.0, 0.0);
+        loop {
+            let action = if args.deterministic {
+                acting.mean(&obs)
+            } else {
+                acting.sample(&obs, &mut rng)
+            };
+            let step = env.step(&action, &mut obs)?;
+            dense += step.info.dense_reward;
+            sparse += step.reward;
+            ep.actions.extend_from_slice(&action);
+            ep.observations.extend_from_slice(&obs);
+            ep.rewards.push(if sparse_requested {
+                step.reward
+            } else {
+                step.info.dense_reward
+            });
+            ep.terminations.push(step.terminated);
+            ep.truncations.push(step.truncated);
+            if step.done() {
+                break;
+            }
+        }
+        dense_returns.push(dense);
+        sparse_returns.push(sparse);
+        episodes.push(ep);
+    }
+    let mut dataset = Dataset {
+        obs_dim: spec.obs_dim,
+        act_dim: spec.act_dim,
+        episodes,
+        metadata: Default::default(),
+    };
+    env_metadata(&mut dataset, &args.env)?;
+    let m = &mut dataset.metadata;
+    m.insert(
+        "dataset_id".into(),
+        args.dataset_id
+            .clone()
+            .unwrap_or_else(|| format!("logo/{}-recorded-v0", args.env.to_lowercase()))
+            .into(),
+    );
+    m.insert(
+        "logo_policy".into(),
+        args.policy.display().to_string().into(),
+    );
+    m.insert(
+        "logo_policy_algorithm".into(),
+        meta.algorithm.clone().into(),
+    );
+    m.insert("logo_policy_iteration".into(), meta.iteration.into());
+    m.insert("logo_deterministic".into(), args.deterministic.into());
+    m.insert("logo_seed".into(), args.seed.into());
+    m.insert("logo_dense_returns".into(), json!(dense_returns));
+    m.insert("logo_sparse_returns".into(), json!(sparse_returns));
+    write_minari(&dataset, &args.out)?;
+    let (dm, ds) = mean_std(&dense_returns);
+    let (sm, ss) = mean_std(&sparse_returns);
+    println!(
+        "{} episodes, {} steps -> {}: dense return {dm:.2} ± {ds:.2}, sparse return {sm:.2} ± {ss:.2}",
+        args.episodes,
+        dataset.total_steps(),
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,128 @@
+//! Episodes in the Minari layout: T+1 observations, T actions, rewards, terminations and
+//! truncations per episode, plus the dataset's metadata.
+
+use std::path::Path;
+
+use serde_json::{Map, Value};
+
+use crate::DataError;
+
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Episode {
+    /// `(steps + 1) * obs_dim` values, row-major: the last row is the final observation.
+    pub observations: Vec<f64>,
+    /// `steps * act_dim` values.
+    pub actions: Vec<f64>,
+    pub rewards: Vec<f64>,
+    pub terminations: Vec<bool>,
+    pub truncations: Vec<bool>,
+}
+
+impl Episode {
+    pub fn steps(&self) -> usize {
+        self.rewards.len()
+    }
+
+    pub fn total_reward(&self) -> f64 {
+        self.rewards.iter().sum()
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dataset {
+    pub obs_dim: usize,
+    pub act_dim: usize,
+    pub episodes: Vec<Episode>,
+    /// `metadata.json`: Minari's keys (dataset_id, minari_version, spaces, totals, ...)
+    /// and logo-rl's own (`logo_*`): provenance, per-episode returns.
+    pub metadata: Map<String, Value>,
+}
+
+impl Dataset {
+    pub fn total_steps(&self) -> usize {
+        self.episodes.iter().map(Episode::steps).sum()
+    }
+
+    /// The env this dataset was made in, if its metadata says.
+    pub fn env_id(&self) -> Option<&str> {
+        self.metadata.get("logo_env_id").and_then(Value::as_str)
+    }
+
+    /// Checks every episode: non-empty, lengths consistent with its step count, finite
+    /// values, exactly one end flag on the last step at most. `path` names the source in
+    /// the error.
+    pub fn validate(&self, path: &Path) -> Result<(), DataError> {
+        if self.obs_dim == 0 || self.act_dim == 0 {
+            return Err(DataError::field(
+                path,
+                None,
+                "observations/actions",
+                "zero-width rows",
+            ));
+        }
+        if self.episodes.is_empty() {
+            return Err(DataError::Empty {
+                path: path.to_path_buf(),
+            });
+        }
+        for (i, ep) in self.episodes.iter().enumerate() {
+            let t = ep.steps();
+            let bad = |field: &str, reason: String| DataError::field(path, Some(i), field, &reason);
+            if t == 0 {
+                return Err(bad("rewards", "empty episode (0 steps)".into()));
+            }
+            let checks = [
+                (
+                    "observations",
+                    ep.observations.len(),
+                    (t + 1) * self.obs_dim,
+                ),
+                ("actions", ep.actions.len(), t * self.act_dim),
+                ("terminations", ep.terminations.len(), t),
+                ("truncations", ep.truncations.len(), t),
+            ];
+            for (field, found, expected) in checks {
+                if found != expected {
+                    return Err(bad(
+                        field,
+                        format!("{found} values, expected {expected} for {t} steps"),
+                    ));
+                }
+            }
+            for (field, values, width) in [
+                ("observations", &ep.observations, self.obs_dim),
+                ("actions", &ep.actions, self.act_dim),
+                ("rewards", &ep.rewards, 1),
+            ] {
+                if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+                    return Err(bad(
+                        field,
+                        format!(
+                            "row {}, column {} is {}, expected a finite number",
+                            k / width,
+                            k % width,
+                            values[k]
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks the dims against an env's.
+    pub fn check_dims(&self, path: &Path, obs_dim: usize, act_dim: usize) -> Result<(), DataError> {
+        if (self.obs_dim, self.act_dim) != (obs_dim, act_dim) {
+            return Err(DataError::field(
+                path,
+                None,
+                "observations/actions",
+                &format!(
+                    "dims ({}, {}), expected the env's ({obs_dim}, {act_dim})",
+                    self.obs_dim, self.act_dim
+                ),
+            ));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,281 @@
+//! Importing demonstrations from other layouts into a [`Dataset`].
+//!
+//! - The LOGO paper's `.npy` arrays: rows `[obs ‖ action]`, no episode markers, no
+//!   rewards, no final observations. Episodes are split by [`split_at_resets`].
+//! - D4RL-style flat HDF5: `observations`, `actions`, `rewards`, `terminals`, `timeouts`
+//!   (optionally `next_observations`) over all steps; an episode ends at a terminal or a
+//!   timeout.
+
+use std::path::Path;
+
+use serde_json::{Map, Value};
+
+use crate::dataset::{Dataset, Episode};
+use crate::{DataError, read_npy};
+
+/// Where an env's observation starts an episode: the initial pose and, per dimension, how
+/// far Gymnasium's reset noise can move it. Dimensions with `f64::INFINITY` are not
+/// checked (constraint forces), `position_dims` says which are positions (for the jump
+/// test).
+pub struct ResetPose {
+    pub center: Vec<f64>,
+    pub tolerance: Vec<f64>,
+    pub position_dims: std::ops::Range<usize>,
+}
+
+/// The reset pose of the four LOGO envs in their v2/v4 observation layouts (what the LOGO
+/// demonstrations use), from Gymnasium's reset rules:
+/// - Hopper, Walker2d: qpos and qvel + U(±0.005); obs = qpos[1:] ‖ qvel, z starts at 1.25.
+/// - HalfCheetah: qpos + U(±0.1), qvel + 0.1·N(0, 1): velocities bounded at 4σ = 0.4.
+/// - InvertedDoublePendulum: qpos + U(±0.1), qvel + 0.1·N(0, 1); obs = cart x,
+///   sin q1, sin q2, cos q1, cos q2, qvel (3), constraint forces (3, unchecked).
+pub fn reset_pose(env: &str) -> Option<ResetPose> {
+    let base = env.trim_start_matches("Sparse");
+    let base = base.split("-v").next().unwrap_or(base);
+    let pose = |center: Vec<f64>, positions: usize, p: f64, v: f64| {
+        let tolerance = (0..center.len())
+            .map(|i| if i < positions { p } else { v })
+            .collect();
+        ResetPose {
+            center,
+            tolerance,
+            position_dims: 0..positions,
+        }
+    };
+    let with_z = |positions: usize, total: usize| {
+        let mut c = vec![0.0; total];
+        c[0] = 1.25;
+        pose(c, positions, 0.005, 0.005)
+    };
+    match base {
+        "Hopper" => Some(with_z(5, 11)),
+        "Walker2d" => Some(with_z(8, 17)),
+        "HalfCheetah" => Some(pose(vec![0.0; 17], 8, 0.1, 0.4)),
+        "InvertedDoublePendulum" => {
+            let (p, v, cos) = (0.1, 0.4, 1.0 - 0.1f64.cos());
+            Some(ResetPose {
+                center: vec![0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                tolerance: vec![
+                    p,
+                    p,
+                    p,
+                    cos,
+                    cos,
+                    v,
+                    v,
+                    v,
+                    f64::INFINITY,
+                    f64::INFINITY,
+                    f64::INFINITY,
+                ],
+                position_dims: 0..5,
+            })
+        }
+        _ => None,
+    }
+}
+
+impl ResetPose {
+    fn contains(&self, obs: &[f64]) -> bool {
+        obs.iter()
+            .zip(&self.center)
+            .zip(&self.tolerance)
+            .all(|((x, c), t)| (x - c).abs() <= t + 1e-12)
+    }
+}
+
+/// The first row of every episode in consecutive `obs` rows. Row 0 starts one; row i > 0
+/// starts one when (1) its observation is within the reset noise of the initial pose and
+/// (2) its position part jumped from row i − 1 by more than twice the reset noise (a
+/// reset teleports the body; a step moves it continuously). (2) matters for balancing
+/// tasks, whose states stay near the initial pose for many steps.
+pub fn split_at_resets(obs: &[f64], obs_dim: usize, pose: &ResetPose) -> Vec<usize> {
+    let rows: Vec<&[f64]> = obs.chunks_exact(obs_dim).collect();
+    let mut starts = vec![0];
+    for i in 1..rows.len() {
+        let jumped = pose
+            .position_dims
+            .clone()
+            .any(|j| (rows[i][j] - rows[i - 1][j]).abs() > 2.0 * pose.tolerance[j]);
+        if jumped && pose.contains(rows[i]) {
+            starts.push(i);
+        }
+    }
+    starts
+}
+
+/// Imports a LOGO `.npy` demonstration array for `env` (an id such as `Hopper-v4`).
+///
+/// The source has no final observations and no rewards: each episode's final observation
+/// is its last observed one repeated, rewards are zero, and the last step is marked
+/// `truncated` when the episode reached `max_episode_steps`, else `terminated`. All of
+/// this is recorded in the metadata (`logo_source`, `logo_notes`).
+pub fn import_logo_npy(
+    path: &Path,
+    env: &str,
+    obs_dim: usize,
+    act_dim: usize,
+    max_episode_steps: usize,
+) -> Result<Dataset, DataError> {
+    let array = read_npy(path)?;
+    let cols = array.shape.get(1).copied().unwrap_or(0);
+    if array.shape.len() != 2 || cols != obs_dim + act_dim {
+        return Err(DataError::Columns {
+            path: path.to_path_buf(),
+            found: cols,
+            obs_dim,
+            act_dim,
+        });
+    }
+    let pose = reset_pose(env).ok_or_else(|| {
+        DataError::field(path, None, "env", &format!("no reset pose known for {env}"))
+    })?;
+    let rows = array.shape[0];
+    let (mut obs, mut actions) = (Vec::new(), Vec::new());
+    for row in array.data.chunks_exact(cols) {
+        obs.extend_from_slice(&row[..obs_dim]);
+        actions.extend_from_slice(&row[obs_dim..]);
+    }
+    let mut starts = split_at_resets(&obs, obs_dim, &pose);
+    starts.push(rows);
+    let episodes = starts
+        .windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let t = b - a;
+            let mut observations = obs[a * obs_dim..b * obs_dim].to_vec();
+            observations.extend_from_slice(&obs[(b - 1) * obs_dim..b * obs_dim]);
+            let timed_out = t >= max_episode_steps;
+            let mut terminations = vec![false; t];
+            let mut truncations = vec![false; t];
+            terminations[t - 1] = !timed_out;
+            truncations[t - 1] = timed_out;
+            Episode {
+                observations,
+                actions: actions[a * act_dim..b * act_dim].to_vec(),
+                rewards: vec![0.0; t],
+                terminations,
+                truncations,
+            }
+        })
+        .collect();
+    let mut metadata = Map::new();
+    metadata.insert("logo_env_id".into(), env.into());
+    metadata.insert("logo_source".into(), path.display().to_string().into());
+    metadata.insert(
+        "logo_notes".into(),
+        Value::from(
+            "Imported from a LOGO .npy array ([obs | action] rows): episodes split where the \
+             state jumps back to the reset pose; the source has no rewards (stored as 0) and \
+             no final observations (the last observation is repeated).",
+        ),
+    );
+    let dataset = Dataset {
+        obs_dim,
+        act_dim,
+        episodes,
+        metadata,
+    };
+    dataset.validate(path)?;
+    Ok(dataset)
+}
+
+/// Imports a D4RL-style flat HDF5 file.
+pub fn import_d4rl(path: &Path) -> Result<Dataset, DataError> {
+    let bytes = std::fs::read(path).map_err(|source| DataError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let hdf5_error = |e: hdf5_pure::Error| DataError::Hdf5 {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    };
+    let file = hdf5_pure::File::from_bytes(bytes).map_err(hdf5_error)?;
+    let bad = |field: &str, reason: String| DataError::field(path, None, field, &reason);
+    let matrix = |field: &str| -> Result<(Vec<f64>, usize), DataError> {
+        let ds = file
+            .dataset(field)
+            .map_err(|e| bad(field, format!("missing or unreadable: {e}")))?;
+        let shape = ds.shape().map_err(|e| bad(field, e.to_string()))?;
+        let values = ds.read_f64().map_err(|e| bad(field, e.to_string()))?;
+        let width = match shape.as_slice() {
+            [_] => 1,
+            [_, w] => *w as usize,
+            other => return Err(bad(field, format!("shape {other:?}, expected 1 or 2 dims"))),
+        };
+        Ok((values, width))
+    };
+    let flags = |field: &str| -> Result<Vec<bool>, DataError> {
+        let ds = file
+            .dataset(field)
+            .map_err(|e| bad(field, format!("missing or unreadable: {e}")))?;
+        Ok(ds
+            .read_u8()
+            .map_err(|e| bad(field, e.to_string()))?
+            .into_iter()
+            .map(|b| b != 0)
+            .collect())
+    };
+    let (obs, obs_dim) = matrix("observations")?;
+    let (actions, act_dim) = matrix("actions")?;
+    let (rewards, _) = matrix("rewards")?;
+    let terminals = flags("terminals")?;
+    let timeouts = flags("timeouts")?;
+    let next_obs = file
+        .dataset("next_observations")
+        .ok()
+        .map(|_| matrix("next_observations"))
+        .transpose()?;
+    let n = rewards.len();
+    for (field, len, expected) in [
+        ("observations", obs.len(), n * obs_dim),
+        ("actions", actions.len(), n * act_dim),
+        ("terminals", terminals.len(), n),
+        ("timeouts", timeouts.len(), n),
+    ] {
+        if len != expected {
+            return Err(bad(
+                field,
+                format!("{len} values, expected {expected} ({n} steps)"),
+            ));
+        }
+    }
+    let mut episodes = Vec::new();
+    let mut start = 0;
+    for i in 0..n {
+        let last = i + 1 == n;
+        if !(terminals[i] || timeouts[i] || last) {
+            continue;
+        }
+        let end = i + 1;
+        let mut observations = obs[start * obs_dim..end * obs_dim].to_vec();
+        // The final observation: next_observations when given, else the next row (the
+        // next episode's first state is not this one's successor, so repeat the last).
+        match &next_obs {
+            Some((next, _)) => observations.extend_from_slice(&next[i * obs_dim..end * obs_dim]),
+            None => observations.extend_from_slice(&obs[i * obs_dim..end * obs_dim]),
+        }
+        let t = end - start;
+        episodes.push(Episode {
+            observations,
+            actions: actions[start * act_dim..end * act_dim].to_vec(),
+            rewards: rewards[start..end].to_vec(),
+            terminations: terminals[start..end].to_vec(),
+            truncations: (start..end)
+                .map(|k| timeouts[k] || (k + 1 == n && !terminals[k]))
+                .collect(),
+        });
+        debug_assert_eq!(episodes.last().map(Episode::steps), Some(t));
+        start = end;
+    }
+    let mut metadata = Map::new();
+    metadata.insert("logo_source".into(), path.display().to_string().into());
+    let dataset = Dataset {
+        obs_dim,
+        act_dim,
+        episodes,
+        metadata,
+    };
+    dataset.validate(path)?;
+    Ok(dataset)
+}

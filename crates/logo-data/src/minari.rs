@@ -1,0 +1,249 @@
+//! Minari's HDF5 layout (minari 0.5.4): a dataset folder holding `data/main_data.hdf5`
+//! (one `episode_{i}` group per episode: `observations` [T+1, obs], `actions` [T, act],
+//! `rewards` [T], `terminations` [T], `truncations` [T]; attributes `id`, `total_steps`)
+//! and `data/metadata.json`. Read and written with `hdf5-pure` (pure Rust: no system
+//! HDF5 library to install).
+
+use std::path::{Path, PathBuf};
+
+use hdf5_pure::{AttrValue, Datatype, File, FileBuilder};
+use hdf5_pure::{DatatypeByteOrder, EnumTypeBuilder, FixedPointLayout};
+use serde_json::{Map, Value};
+
+use crate::DataError;
+use crate::dataset::{Dataset, Episode};
+
+pub const MINARI_VERSION: &str = "0.5.4";
+
+fn hdf5_path(dir: &Path) -> PathBuf {
+    dir.join("data").join("main_data.hdf5")
+}
+
+fn metadata_path(dir: &Path) -> PathBuf {
+    dir.join("data").join("metadata.json")
+}
+
+/// Whether `path` looks like a Minari dataset folder.
+pub fn is_minari_dir(path: &Path) -> bool {
+    hdf5_path(path).is_file()
+}
+
+/// h5py's boolean: an enum {FALSE = 0, TRUE = 1} over a signed 8-bit integer.
+fn bool_datatype() -> Datatype {
+    let base = Datatype::FixedPoint {
+        size: 1,
+        byte_order: DatatypeByteOrder::LittleEndian,
+        layout: FixedPointLayout {
+            signed: true,
+            bit_offset: 0,
+            bit_precision: 8,
+        },
+    };
+    EnumTypeBuilder::with_base(base)
+        .value("FALSE", 0)
+        .value("TRUE", 1)
+        .build()
+        .expect("0 and 1 fit an 8-bit base")
+}
+
+/// A gymnasium `Box` space serialised as minari does (a JSON string; unbounded limits
+/// are Python's `Infinity` tokens).
+pub fn box_space(low: &[f64], high: &[f64]) -> String {
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| match *x {
+                x if x == f64::INFINITY => "Infinity".to_string(),
+                x if x == f64::NEG_INFINITY => "-Infinity".to_string(),
+                x => format!("{x:?}"),
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!(
+        "{{\"type\": \"Box\", \"dtype\": \"float64\", \"shape\": [{}], \"low\": [{}], \"high\": [{}]}}",
+        low.len(),
+        list(low),
+        list(high)
+    )
+}
+
+/// Writes `dataset` as a Minari dataset folder at `dir` (created; files replaced
+/// atomically). Missing Minari metadata keys get defaults (unbounded spaces, this
+/// version), and the totals are always recomputed.
+pub fn write_minari(dataset: &Dataset, dir: &Path) -> Result<(), DataError> {
+    dataset.validate(dir)?;
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| DataError::Io { path, source }
+    };
+    let data_dir = dir.join("data");
+    std::fs::create_dir_all(&data_dir).map_err(io(&data_dir))?;
+
+    let mut builder = FileBuilder::new();
+    for (i, ep) in dataset.episodes.iter().enumerate() {
+        let t = ep.steps() as u64;
+        let group = builder.create_group(&format!("episode_{i}"));
+        let mut group = group;
+        group.set_attr("id", AttrValue::I64(i as i64));
+        group.set_attr("total_steps", AttrValue::I64(t as i64));
+        group
+            .create_dataset("observations")
+            .with_f64_data(&ep.observations)
+            .with_shape(&[t + 1, dataset.obs_dim as u64]);
+        group
+            .create_dataset("actions")
+            .with_f64_data(&ep.actions)
+            .with_shape(&[t, dataset.act_dim as u64]);
+        group.create_dataset("rewards").with_f64_data(&ep.rewards);
+        for (name, flags) in [
+            ("terminations", &ep.terminations),
+            ("truncations", &ep.truncations),
+        ] {
+            let bytes: Vec<u8> = flags.iter().map(|f| u8::from(*f)).collect();
+            group
+                .create_dataset(name)
+                .with_enum_u8_data(bool_datatype(), &bytes);
+        }
+        builder.add_group(group.finish());
+    }
+    let h5 = hdf5_path(dir);
+    let bytes = builder.finish().map_err(|e| DataError::Hdf5 {
+        path: h5.clone(),
+        reason: e.to_string(),
+    })?;
+
+    let mut metadata = dataset.metadata.clone();
+    let unbounded = |n: usize| box_space(&vec![f64::NEG_INFINITY; n], &vec![f64::INFINITY; n]);
+    let defaults = [
+        ("dataset_id", Value::from("logo/unnamed-v0")),
+        ("minari_version", Value::from(MINARI_VERSION)),
+        ("observation_space", Value::from(unbounded(dataset.obs_dim))),
+        ("action_space", Value::from(unbounded(dataset.act_dim))),
+    ];
+    for (key, value) in defaults {
+        metadata.entry(key).or_insert(value);
+    }
+    metadata.insert("data_format".into(), "hdf5".into());
+    metadata.insert("jpeg_encoding".into(), false.into());
+    metadata.insert("total_episodes".into(), dataset.episodes.len().into());
+    metadata.insert("total_steps".into(), dataset.total_steps().into());
+    metadata.insert("dataset_size".into(), Value::from(bytes.len() as f64 / 1e6));
+    let json = serde_json::to_string_pretty(&Value::Object(metadata)).expect("JSON values");
+
+    for (path, content) in [(h5, bytes), (metadata_path(dir), json.into_bytes())] {
+        let tmp = path.with_extension("tmp");
+        std::fs::write(&tmp, content).map_err(io(&tmp))?;
+        std::fs::rename(&tmp, &path).map_err(io(&path))?;
+    }
+    Ok(())
+}
+
+/// Reads a Minari dataset folder (as written by `minari` 0.5.4 or by [`write_minari`])
+/// and validates it.
+pub fn read_minari(dir: &Path) -> Result<Dataset, DataError> {
+    let h5 = hdf5_path(dir);
+    let meta_path = metadata_path(dir);
+    let text = std::fs::read_to_string(&meta_path).map_err(|source| DataError::Io {
+        path: meta_path.clone(),
+        source,
+    })?;
+    let metadata: Map<String, Value> = match serde_json::from_str(&text) {
+        Ok(Value::Object(map)) => map,
+        Ok(_) => {
+            return Err(DataError::field(
+                &meta_path,
+                None,
+                "(top level)",
+                "expected a JSON object",
+            ));
+        }
+        Err(e) => return Err(DataError::field(&meta_path, None, "(JSON)", &e.to_string())),
+    };
+    let hdf5_error = |e: hdf5_pure::Error| DataError::Hdf5 {
+        path: h5.clone(),
+        reason: e.to_string(),
+    };
+    let bytes = std::fs::read(&h5).map_err(|source| DataError::Io {
+        path: h5.clone(),
+        source,
+    })?;
+    let file = File::from_bytes(bytes).map_err(hdf5_error)?;
+    let mut names: Vec<(usize, String)> = Vec::new();
+    for name in file.root().groups().map_err(hdf5_error)? {
+        let index = name
+            .strip_prefix("episode_")
+            .and_then(|i| i.parse::<usize>().ok())
+            .ok_or_else(|| DataError::field(&h5, None, &name, "a group that is not episode_{i}"))?;
+        names.push((index, name));
+    }
+    names.sort();
+    let (mut obs_dim, mut act_dim) = (0, 0);
+    let mut episodes = Vec::with_capacity(names.len());
+    for (k, (index, name)) in names.iter().enumerate() {
+        if *index != k {
+            return Err(DataError::field(
+                &h5,
+                Some(k),
+                "episode ids",
+                &format!("found {name}, expected episode_{k} (ids must be 0..N)"),
+            ));
+        }
+        let bad = |field: &str, reason: String| DataError::field(&h5, Some(k), field, &reason);
+        let group = file
+            .group(name)
+            .map_err(|e| bad("(group)", e.to_string()))?;
+        let dataset = |field: &str| {
+            group
+                .dataset(field)
+                .map_err(|e| bad(field, format!("missing or unreadable: {e}")))
+        };
+        let matrix = |field: &str| -> Result<(Vec<f64>, usize, usize), DataError> {
+            let ds = dataset(field)?;
+            let shape = ds.shape().map_err(|e| bad(field, e.to_string()))?;
+            let values = ds.read_f64().map_err(|e| bad(field, e.to_string()))?;
+            let (rows, cols) = match shape.as_slice() {
+                [rows] => (*rows as usize, 1),
+                [rows, cols] => (*rows as usize, *cols as usize),
+                other => return Err(bad(field, format!("shape {other:?}, expected 1 or 2 dims"))),
+            };
+            if values.len() != rows * cols {
+                return Err(bad(
+                    field,
+                    format!("{} values for shape {shape:?}", values.len()),
+                ));
+            }
+            Ok((values, rows, cols))
+        };
+        let flags = |field: &str| -> Result<Vec<bool>, DataError> {
+            let ds = dataset(field)?;
+            let raw = ds.read_u8().map_err(|e| bad(field, e.to_string()))?;
+            Ok(raw.into_iter().map(|b| b != 0).collect())
+        };
+        let (observations, _, o) = matrix("observations")?;
+        let (actions, _, a) = matrix("actions")?;
+        let (rewards, _, _) = matrix("rewards")?;
+        if k == 0 {
+            (obs_dim, act_dim) = (o, a);
+        } else if (o, a) != (obs_dim, act_dim) {
+            return Err(bad(
+                "observations/actions",
+                format!("dims ({o}, {a}), episode 0 has ({obs_dim}, {act_dim})"),
+            ));
+        }
+        episodes.push(Episode {
+            observations,
+            actions,
+            rewards,
+            terminations: flags("terminations")?,
+            truncations: flags("truncations")?,
+        });
+    }
+    let dataset = Dataset {
+        obs_dim,
+        act_dim,
+        episodes,
+        metadata,
+    };
+    dataset.validate(&h5)?;
+    Ok(dataset)
+}

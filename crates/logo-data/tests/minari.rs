@@ -1,0 +1,279 @@
+//! Minari datasets: our writer and reader, both directions with Python's minari 0.5.4,
+//! the LOGO demonstrations' import, and corrupted files (errors, never panics).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use logo_data::import::{import_logo_npy, reset_pose, split_at_resets};
+use logo_data::{DataError, Dataset, Episode, read_minari, write_minari};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde_json::Value;
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("logo-data-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn python() -> Option<PathBuf> {
+    let python = repo().join(".venv/bin/python");
+    let has_minari = python.exists()
+        && Command::new(&python)
+            .args(["-c", "import minari, h5py"])
+            .status()
+            .is_ok_and(|s| s.success());
+    if has_minari {
+        return Some(python);
+    }
+    assert!(
+        std::env::var_os("LOGO_REQUIRE_PYTHON").is_none(),
+        "{} with minari is missing: run ./scripts/setup.sh",
+        python.display()
+    );
+    eprintln!("skipped: no Python with minari");
+    None
+}
+
+fn sample_dataset(seed: u64) -> Dataset {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (obs_dim, act_dim) = (4, 2);
+    let episodes = [7usize, 1, 12]
+        .iter()
+        .enumerate()
+        .map(|(i, &t)| {
+            let mut r =
+                |n: usize| -> Vec<f64> { (0..n).map(|_| rng.random_range(-3.0..3.0)).collect() };
+            Episode {
+                observations: r((t + 1) * obs_dim),
+                actions: r(t * act_dim),
+                rewards: r(t),
+                terminations: (0..t).map(|k| k + 1 == t && i != 1).collect(),
+                truncations: (0..t).map(|k| k + 1 == t && i == 1).collect(),
+            }
+        })
+        .collect();
+    Dataset {
+        obs_dim,
+        act_dim,
+        episodes,
+        metadata: Default::default(),
+    }
+}
+
+fn episodes_json(dataset: &Dataset) -> Value {
+    let rows = |v: &[f64], w: usize| -> Value {
+        v.chunks(w).map(|r| r.to_vec()).collect::<Vec<_>>().into()
+    };
+    dataset
+        .episodes
+        .iter()
+        .map(|e| {
+            serde_json::json!({
+                "observations": rows(&e.observations, dataset.obs_dim),
+                "actions": rows(&e.actions, dataset.act_dim),
+                "rewards": e.rewards,
+                "terminations": e.terminations,
+                "truncations": e.truncations,
+            })
+        })
+        .collect::<Vec<_>>()
+        .into()
+}
+
+#[test]
+fn write_then_read_gives_the_same_episodes() {
+    let dir = scratch("roundtrip");
+    let mut dataset = sample_dataset(1);
+    dataset.metadata.insert("logo_note".into(), "kept".into());
+    write_minari(&dataset, &dir).unwrap();
+    let back = read_minari(&dir).unwrap();
+    assert_eq!(back.episodes, dataset.episodes);
+    assert_eq!((back.obs_dim, back.act_dim), (4, 2));
+    assert_eq!(back.metadata["logo_note"], "kept");
+    assert_eq!(back.metadata["total_steps"], 20);
+    assert_eq!(back.metadata["total_episodes"], 3);
+}
+
+#[test]
+fn a_dataset_written_by_python_minari_loads_here() {
+    let Some(python) = python() else { return };
+    let root = scratch("from-python");
+    let out = Command::new(&python)
+        .arg(repo().join("tests/python/minari_roundtrip.py"))
+        .args(["write", root.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let dir = PathBuf::from(String::from_utf8(out.stdout).unwrap().trim());
+    let dataset = read_minari(&dir).unwrap();
+    let expected: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("expected.json")).unwrap()).unwrap();
+    assert_eq!(episodes_json(&dataset), expected);
+    assert_eq!(dataset.metadata["dataset_id"], "test/roundtrip-v0");
+}
+
+#[test]
+fn a_dataset_written_here_loads_in_python_minari() {
+    let Some(python) = python() else { return };
+    let dir = scratch("to-python");
+    let dataset = sample_dataset(2);
+    write_minari(&dataset, &dir).unwrap();
+    std::fs::write(
+        dir.join("expected.json"),
+        episodes_json(&dataset).to_string(),
+    )
+    .unwrap();
+    let out = Command::new(&python)
+        .arg(repo().join("tests/python/minari_roundtrip.py"))
+        .args(["read", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// The episode lengths listed in the LOGO demonstrations' README.
+const LOGO_LENGTHS: [(&str, &str, &[usize]); 4] = [
+    ("hopper", "Hopper-v4", &[1000, 1000, 546, 323, 1000]),
+    ("walker2d", "Walker2d-v4", &[1000, 1000, 1000, 1000, 584]),
+    ("halfcheetah", "HalfCheetah-v4", &[1000; 5]),
+    (
+        "inverted_double_pendulum",
+        "InvertedDoublePendulum-v4",
+        &[29, 43, 31, 46, 34],
+    ),
+];
+
+#[test]
+fn the_shipped_logo_demonstrations_have_the_listed_episodes() {
+    for (name, env, lengths) in LOGO_LENGTHS {
+        let dataset = read_minari(&repo().join("data/logo").join(name)).unwrap();
+        let got: Vec<usize> = dataset.episodes.iter().map(Episode::steps).collect();
+        assert_eq!(got, lengths, "{name}");
+        assert_eq!(dataset.env_id(), Some(env));
+        // 1000-step episodes hit the time limit; shorter ones terminated.
+        for ep in &dataset.episodes {
+            assert_eq!(
+                ep.truncations.last() == Some(&true),
+                ep.steps() == 1000,
+                "{name}"
+            );
+        }
+    }
+}
+
+#[test]
+fn importing_the_reference_npy_reproduces_the_shipped_datasets() {
+    let reference = repo().join("../shared/reference/logo-demos");
+    if !reference.is_dir() {
+        eprintln!("skipped: {} is not there", reference.display());
+        return;
+    }
+    for (name, env, _) in LOGO_LENGTHS {
+        let npy = reference.join(format!("{name}.npy"));
+        let shipped = read_minari(&repo().join("data/logo").join(name)).unwrap();
+        let imported = import_logo_npy(&npy, env, shipped.obs_dim, shipped.act_dim, 1000).unwrap();
+        assert_eq!(imported.episodes, shipped.episodes, "{name}");
+    }
+}
+
+#[test]
+fn splitting_ignores_a_balancing_state_near_the_reset_pose() {
+    // Two IDP-like episodes: each starts at the pose and drifts slowly (staying inside the
+    // reset box for a while); the second starts after a fall far from the pose.
+    let pose = reset_pose("InvertedDoublePendulum-v4").unwrap();
+    let mut obs = Vec::new();
+    for start in [0.0, 0.0] {
+        for k in 0..20 {
+            let x = start + 0.01 * k as f64;
+            let fallen = if k == 19 { 0.6 } else { 0.0 };
+            obs.extend([
+                x + fallen,
+                0.01,
+                0.0,
+                1.0,
+                1.0,
+                0.1,
+                0.0,
+                0.0,
+                5.0,
+                5.0,
+                5.0,
+            ]);
+        }
+    }
+    assert_eq!(split_at_resets(&obs, 11, &pose), vec![0, 20]);
+}
+
+#[test]
+fn bad_values_are_errors_naming_file_episode_and_field() {
+    let dir = scratch("nan");
+    let mut dataset = sample_dataset(3);
+    write_minari(&dataset, &dir).unwrap();
+    dataset.episodes[2].actions[3] = f64::NAN;
+    let err = write_minari(&dataset, &dir).unwrap_err().to_string();
+    assert!(
+        err.contains("episode 2") && err.contains("actions"),
+        "{err}"
+    );
+    let mut short = sample_dataset(3);
+    short.episodes[1].observations.truncate(4); // one observation for one step
+    let err = short.validate(Path::new("x")).unwrap_err().to_string();
+    assert!(
+        err.contains("episode 1") && err.contains("observations"),
+        "{err}"
+    );
+}
+
+#[test]
+fn corrupted_and_truncated_files_are_errors_not_panics() {
+    let dir = scratch("fuzz");
+    write_minari(&sample_dataset(4), &dir).unwrap();
+    let h5 = dir.join("data/main_data.hdf5");
+    let good = std::fs::read(&h5).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let mut errors = 0;
+    for trial in 0..300 {
+        let mut bytes = good.clone();
+        if trial % 3 == 0 {
+            bytes.truncate(rng.random_range(0..good.len()));
+        } else {
+            for _ in 0..rng.random_range(1..8) {
+                let i = rng.random_range(0..bytes.len());
+                bytes[i] = rng.random();
+            }
+        }
+        std::fs::write(&h5, &bytes).unwrap();
+        match read_minari(&dir) {
+            Err(DataError::Hdf5 { path, .. }) | Err(DataError::Field { path, .. }) => {
+                assert!(path.ends_with("main_data.hdf5"), "{}", path.display());
+                errors += 1;
+            }
+            Err(other) => panic!("unexpected error kind: {other}"),
+            Ok(dataset) => dataset.validate(&h5).unwrap(), // a flip in unused bytes
+        }
+    }
+    assert!(
+        errors > 100,
+        "only {errors} of 300 corruptions were detected"
+    );
+    // A broken metadata.json names itself.
+    std::fs::write(&h5, &good).unwrap();
+    std::fs::write(dir.join("data/metadata.json"), "{ not json").unwrap();
+    let err = read_minari(&dir).unwrap_err().to_string();
+    assert!(err.contains("metadata.json"), "{err}");
+}
