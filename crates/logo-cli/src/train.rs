@@ -28,6 +28,11 @@ pub struct TrainArgs {
     /// Overrides the config's number of iterations.
     #[arg(long)]
     iterations: Option<usize>,
+    /// Stop (and write the checkpoint) at the first evaluation whose dense return reaches
+    /// this: the behaviour-policy pipeline, e.g. a dense TRPO run stopped at LOGO's
+    /// behaviour level, then `logo data record`.
+    #[arg(long)]
+    stop_at_return: Option<f64>,
     /// Output folder (default: runs/<config name>-seed<seed>).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -42,6 +47,12 @@ pub fn run(args: &TrainArgs) -> Result<()> {
     let mut config = TrainConfig::load(&args.config)?;
     if let Some(seed) = args.seed {
         config.seed = seed;
+    }
+    if let Some(target) = args.stop_at_return {
+        anyhow::ensure!(
+            target.is_finite(),
+            "--stop-at-return must be a finite number"
+        );
     }
     if let Some(iterations) = args.iterations {
         anyhow::ensure!(iterations > 0, "--iterations must be at least 1");
@@ -60,12 +71,16 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("runs/{name}-seed{}", config.seed)));
     match args.dtype {
-        Dtype::F64 => train::<CpuAutodiff>(config, out),
-        Dtype::F32 => train::<Cpu32Autodiff>(config, out),
+        Dtype::F64 => train::<CpuAutodiff>(config, out, args.stop_at_return),
+        Dtype::F32 => train::<Cpu32Autodiff>(config, out, args.stop_at_return),
     }
 }
 
-fn train<B: AutodiffBackend>(config: TrainConfig, out: PathBuf) -> Result<()> {
+fn train<B: AutodiffBackend>(
+    config: TrainConfig,
+    out: PathBuf,
+    stop_at_return: Option<f64>,
+) -> Result<()> {
     let algorithm = if config.guidance.is_some() {
         "LOGO"
     } else {
@@ -106,7 +121,20 @@ fn train<B: AutodiffBackend>(config: TrainConfig, out: PathBuf) -> Result<()> {
             per_iter,
             per_iter * (total - m.iteration - 1) as f64
         );
+        let reached = stop_at_return.is_some_and(|target| m.eval_dense_return >= target);
         last = Some(m);
+        if reached {
+            let path = out.join("checkpoint.safetensors");
+            trainer
+                .save_checkpoint(&path)
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            println!(
+                "reached --stop-at-return {}: stopped, policy in {}",
+                stop_at_return.unwrap_or_default(),
+                path.display()
+            );
+            break;
+        }
     }
     let last = last.expect("at least one iteration");
     println!(

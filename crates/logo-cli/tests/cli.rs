@@ -196,3 +196,74 @@ fn unknown_env_ids_are_one_line_errors() {
         "{err}"
     );
 }
+
+#[test]
+fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
+    let dir = scratch("behaviour");
+    write_npy(&dir.join("demos.npy"), 40, 12);
+    let config = dir.join("tiny.toml");
+    std::fs::write(&config, TINY).unwrap();
+    // Any evaluation reaches -1e9: the run stops after its first iteration.
+    let out_dir = dir.join("run");
+    let out = logo(&[
+        "train",
+        "--config",
+        config.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--stop-at-return=-1e9",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success() && stdout.contains("reached --stop-at-return"),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(out_dir.join("metrics.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 2, "stopped after one iteration: {csv}");
+
+    let ckpt = out_dir.join("checkpoint.safetensors");
+    let rec = dir.join("recorded");
+    let out = logo(&[
+        "data",
+        "record",
+        "--policy",
+        ckpt.to_str().unwrap(),
+        "--env",
+        "InvertedDoublePendulum-v4",
+        "--episodes",
+        "3",
+        "--out",
+        rec.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = logo(&["data", "inspect", rec.to_str().unwrap(), "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(summary["episodes"], 3);
+    assert_eq!(summary["env_id"], "InvertedDoublePendulum-v4");
+    let dense = summary["dense_returns"].as_array().unwrap();
+    let lengths = summary["episode_lengths"].as_array().unwrap();
+    assert_eq!(dense.len(), 3);
+    // Dense IDP rewards are at most ~9.35 per step; the stored rewards are the dense ones.
+    let total: f64 = dense.iter().map(|v| v.as_f64().unwrap()).sum();
+    let mean = summary["return_mean"].as_f64().unwrap();
+    assert!((total / 3.0 - mean).abs() < 1e-9, "{total} vs {mean}");
+    assert!(lengths.iter().all(|l| l.as_u64().unwrap() >= 1));
+
+    // Inspecting something that is not a dataset is a one-line error.
+    let err = stderr_line(&logo(&[
+        "data",
+        "inspect",
+        dir.join("demos.npy").to_str().unwrap(),
+    ]));
+    assert!(err.contains("not a Minari dataset folder"), "{err}");
+}
