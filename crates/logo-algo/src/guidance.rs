@@ -3,13 +3,11 @@
 use std::collections::VecDeque;
 
 use burn::module::AutodiffModule;
-use burn::optim::adaptor::OptimizerAdaptor;
-use burn::optim::{Adam, AdamConfig, GradientsParams, Optimizer};
 use burn::tensor::Tensor;
 use burn::tensor::backend::{AutodiffBackend, Backend};
 use logo_data::Demonstrations;
 use logo_nn::discriminator::softplus;
-use logo_nn::flat::{from_f64, to_f64};
+use logo_nn::flat::{from_f64, grads_to_vec, params_to_vec, to_f64, vec_to_params};
 use logo_nn::{Discriminator, DiscriminatorConfig, GaussianPolicy};
 use serde::{Deserialize, Serialize};
 
@@ -60,9 +58,37 @@ impl DeltaSchedule {
 /// D(s, a) = P(the pair came from the policy), trained by one full-batch Adam step per
 /// iteration on BCE: policy pairs labelled 1, demonstration pairs 0 (the loss is the sum
 /// of the two means, as the reference's GAIL-style code writes it).
+/// Adam (PyTorch's defaults: β = (0.9, 0.999), ε = 1e-8 outside the square root) on a
+/// flat parameter vector. Written out rather than burn's optimizer so that its state is
+/// three plain vectors a checkpoint can hold (for `logo train --resume`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Adam {
+    pub m: Vec<f64>,
+    pub v: Vec<f64>,
+    pub t: u64,
+}
+
+impl Adam {
+    pub fn step(&mut self, theta: &mut [f64], grad: &[f64], lr: f64) {
+        const B1: f64 = 0.9;
+        const B2: f64 = 0.999;
+        const EPS: f64 = 1e-8;
+        if self.m.len() != theta.len() {
+            (self.m, self.v) = (vec![0.0; theta.len()], vec![0.0; theta.len()]);
+        }
+        self.t += 1;
+        let (c1, c2) = (1.0 - B1.powi(self.t as i32), 1.0 - B2.powi(self.t as i32));
+        for (((x, g), m), v) in theta.iter_mut().zip(grad).zip(&mut self.m).zip(&mut self.v) {
+            *m = B1 * *m + (1.0 - B1) * g;
+            *v = B2 * *v + (1.0 - B2) * g * g;
+            *x -= lr * (*m / c1) / ((*v / c2).sqrt() + EPS);
+        }
+    }
+}
+
 pub struct DiscriminatorTrainer<B: AutodiffBackend> {
     pub disc: Discriminator<B>,
-    optim: OptimizerAdaptor<Adam, Discriminator<B>, B>,
+    pub optim: Adam,
     lr: f64,
     demo_obs: Tensor<B, 2>,
     demo_actions: Tensor<B, 2>,
@@ -79,7 +105,7 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
         Self {
             disc: config.init(device),
             // PyTorch's Adam defaults (burn's epsilon default is 1e-5).
-            optim: AdamConfig::new().with_epsilon(1e-8).init(),
+            optim: Adam::default(),
             lr,
             demo_obs: from_f64(&demos.obs, [rows, demos.obs_dim], device),
             demo_actions: from_f64(&demos.actions, [rows, demos.act_dim], device),
@@ -104,8 +130,10 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
         // BCE(label 1) = softplus(−z); BCE(label 0) = softplus(z).
         let loss = softplus(policy_logits.neg()).mean() + softplus(demo_logits).mean();
         let value = to_f64(loss.clone().inner())[0];
-        let grads = GradientsParams::from_grads(loss.backward(), &self.disc);
-        self.disc = self.optim.step(self.lr, self.disc.clone(), grads);
+        let grad = grads_to_vec(&self.disc, &loss.backward());
+        let mut theta = params_to_vec(&self.disc);
+        self.optim.step(&mut theta, &grad, self.lr);
+        self.disc = vec_to_params(self.disc.clone(), &theta);
         value
     }
 }

@@ -18,8 +18,8 @@ use std::time::Instant;
 use burn::tensor::Tensor;
 use burn::tensor::backend::{AutodiffBackend, Backend};
 use logo_data::Demonstrations;
-use logo_envs::{Env, EnvFactory, EnvOptions, VecEnv};
-use logo_nn::flat::from_f64;
+use logo_envs::{Env, EnvFactory, EnvOptions, ResetPoint, RngState, VecEnv};
+use logo_nn::flat::{from_f64, params_to_vec};
 use logo_nn::{
     Checkpoint, CheckpointMeta, DiscriminatorConfig, GaussianPolicy, PolicyConfig,
     load_reference_policy,
@@ -30,7 +30,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::config::TrainConfig;
 use crate::critic::Critic;
 use crate::gae::{GaeInput, gae, normalise};
-use crate::guidance::{DeltaSchedule, DiscriminatorTrainer, behaviour_rewards};
+use crate::guidance::{Adam, DeltaSchedule, DiscriminatorTrainer, behaviour_rewards};
 use crate::rollout::{Batch, collect};
 use crate::trpo::{StepData, trpo_step};
 
@@ -99,7 +99,20 @@ pub struct Trainer<B: AutodiffBackend> {
     iteration: usize,
     samples: usize,
     started: Instant,
+    /// Wall seconds of the iterations before a resume.
+    wall_offset: f64,
     device: B::Device,
+}
+
+/// What a checkpoint holds besides the networks, for `--resume`.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+struct ResumeState {
+    iteration: usize,
+    samples: usize,
+    sampler_rng: RngState,
+    env_points: Vec<ResetPoint>,
+    schedule: Option<DeltaSchedule>,
+    adam: Option<Adam>,
 }
 
 /// GAE for one reward stream with `critic`, then fits `critic` to the returns.
@@ -149,8 +162,79 @@ fn advantages<B: Backend>(
 }
 
 impl<B: AutodiffBackend> Trainer<B> {
+    /// A new run writing into `out_dir` (metrics.csv is started afresh).
     pub fn new(config: TrainConfig, out_dir: &Path) -> Result<Self, TrainError> {
+        let trainer = Self::build(config, out_dir)?;
+        std::fs::create_dir_all(out_dir)?;
+        std::fs::write(
+            out_dir.join("config.toml"),
+            toml::to_string(&trainer.config)?,
+        )?;
+        let mut csv = std::fs::File::create(out_dir.join("metrics.csv"))?;
+        writeln!(csv, "{CSV_HEADER}")?;
+        Ok(trainer)
+    }
+
+    /// Continues the run in `out_dir` from its checkpoint: networks, the discriminator's
+    /// Adam state, the δ schedule, the sampler's and every env copy's generator, the
+    /// iteration and sample counts. Rows of metrics.csv after the checkpoint (a killed
+    /// run's last iterations) are dropped and redone; the run then ends with the same
+    /// checkpoint as one never interrupted. `iterations` extends or shortens the run.
+    pub fn resume(out_dir: &Path, iterations: Option<usize>) -> Result<Self, TrainError> {
+        let path = out_dir.join("checkpoint.safetensors");
+        let ckpt = Checkpoint::load(&path)?;
+        let bad = |what: &str| format!("{}: {what}", path.display());
+        let extra = &ckpt.meta.extra;
+        let mut config: TrainConfig = serde_json::from_value(extra["config"].clone())
+            .map_err(|e| bad(&format!("metadata config: {e}")))?;
+        let state: ResumeState = serde_json::from_value(extra["resume"].clone())
+            .map_err(|e| bad(&format!("metadata resume state: {e}")))?;
+        if let Some(n) = iterations {
+            config.iterations = n;
+        }
+        let mut trainer = Self::build(config, out_dir)?;
+        trainer.policy = ckpt.apply("policy", trainer.policy.clone())?;
+        trainer.critic.nets = ckpt.apply("critic", trainer.critic.nets.clone())?;
+        if let Some(g) = trainer.guidance.as_mut() {
+            g.critic.nets = ckpt.apply("guidance_critic", g.critic.nets.clone())?;
+            g.schedule = state
+                .schedule
+                .clone()
+                .ok_or_else(|| bad("no δ schedule in the resume state"))?;
+            if let GuidanceSignal::Discriminator(d) = &mut g.signal {
+                d.disc = ckpt.apply("discriminator", d.disc.clone())?;
+                d.optim = state.adam.clone().unwrap_or_default();
+            }
+        }
+        trainer.rng = state.sampler_rng.to_rng().map_err(|e| bad(&e))?;
+        trainer.venv.restore_reset_points(&state.env_points)?;
+        trainer.iteration = state.iteration;
+        trainer.samples = state.samples;
+        // metrics.csv: keep the rows up to the checkpoint, continue its clock.
+        let csv_path = out_dir.join("metrics.csv");
+        let csv = std::fs::read_to_string(&csv_path).unwrap_or_default();
+        let mut kept = vec![CSV_HEADER.to_string()];
+        let mut wall = 0.0;
+        for line in csv.lines().skip(1) {
+            let mut fields = line.split(',');
+            let iteration: Option<usize> = fields.next().and_then(|f| f.parse().ok());
+            if iteration.is_some_and(|i| i < state.iteration) {
+                wall = fields.nth(1).and_then(|f| f.parse().ok()).unwrap_or(wall);
+                kept.push(line.to_string());
+            }
+        }
+        std::fs::write(&csv_path, kept.join("\n") + "\n")?;
+        trainer.wall_offset = wall;
+        Ok(trainer)
+    }
+
+    fn build(config: TrainConfig, out_dir: &Path) -> Result<Self, TrainError> {
         let device = B::Device::default();
+        // burn draws initial weights from one process-wide generator: hold it from the
+        // seeding to the last network built, or trainers built at the same time on other
+        // threads (tests, sweeps) would interleave their draws and lose reproducibility.
+        static INIT: std::sync::Mutex<()> = std::sync::Mutex::new(());
+        let _init = INIT.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         B::seed(&device, config.seed);
         let factory = EnvFactory::new(&config.env, &EnvOptions::default())?;
         let spec = factory.spec().clone();
@@ -234,11 +318,7 @@ impl<B: AutodiffBackend> Trainer<B> {
                 })
             }
         };
-        std::fs::create_dir_all(out_dir)?;
-        std::fs::write(out_dir.join("config.toml"), toml::to_string(&config)?)?;
-        let mut csv = std::fs::File::create(out_dir.join("metrics.csv"))?;
-        writeln!(csv, "{CSV_HEADER}")?;
-        Ok(Self {
+        let trainer = Self {
             rng: ChaCha8Rng::seed_from_u64(config.seed),
             config,
             out_dir: out_dir.to_path_buf(),
@@ -250,8 +330,20 @@ impl<B: AutodiffBackend> Trainer<B> {
             iteration: 0,
             samples: 0,
             started: Instant::now(),
+            wall_offset: 0.0,
             device,
-        })
+        };
+        // burn initialises parameters lazily, at their first use: draw them all now, under
+        // the lock.
+        let _ = params_to_vec(&trainer.policy);
+        let _ = params_to_vec(&trainer.critic.nets);
+        if let Some(g) = &trainer.guidance {
+            let _ = params_to_vec(&g.critic.nets);
+            if let GuidanceSignal::Discriminator(d) = &g.signal {
+                let _ = params_to_vec(&d.disc);
+            }
+        }
+        Ok(trainer)
     }
 
     pub fn iteration(&self) -> usize {
@@ -356,7 +448,7 @@ impl<B: AutodiffBackend> Trainer<B> {
         let metrics = IterationMetrics {
             iteration: k,
             samples: self.samples,
-            wall_s: self.started.elapsed().as_secs_f64(),
+            wall_s: self.wall_offset + self.started.elapsed().as_secs_f64(),
             episodes: batch.episode_returns.len(),
             train_sparse_return: batch.mean_return(),
             train_dense_return: batch.mean_dense_return(),
@@ -451,7 +543,29 @@ impl<B: AutodiffBackend> Trainer<B> {
             .insert("critic".into(), self.config.critic_hidden.clone());
         meta.iteration = self.iteration as u64;
         meta.seed = self.config.seed;
-        meta.extra = serde_json::json!({ "samples": self.samples, "config": self.config });
+        let (schedule, adam) = match &self.guidance {
+            Some(g) => (
+                Some(g.schedule.clone()),
+                match &g.signal {
+                    GuidanceSignal::Discriminator(d) => Some(d.optim.clone()),
+                    GuidanceSignal::Behaviour(_) => None,
+                },
+            ),
+            None => (None, None),
+        };
+        let resume = ResumeState {
+            iteration: self.iteration,
+            samples: self.samples,
+            sampler_rng: RngState::of(&self.rng),
+            env_points: self.venv.reset_points()?,
+            schedule,
+            adam,
+        };
+        meta.extra = serde_json::json!({
+            "samples": self.samples,
+            "config": self.config,
+            "resume": resume,
+        });
         let mut ckpt = Checkpoint::new(meta);
         ckpt.insert("policy", &self.policy);
         ckpt.insert("critic", &self.critic.nets);

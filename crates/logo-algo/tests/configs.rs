@@ -10,7 +10,7 @@ use logo_envs::{EnvFactory, EnvOptions};
 fn every_shipped_config_loads_and_its_demos_fit_the_env() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut checked = 0;
-    for algo in ["logo", "trpo"] {
+    for algo in ["logo", "trpo", "behaviour"] {
         for entry in std::fs::read_dir(root.join("configs").join(algo)).unwrap() {
             let path = entry.unwrap().path();
             let config = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));

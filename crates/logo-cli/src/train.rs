@@ -20,8 +20,13 @@ pub enum Dtype {
 #[derive(Args)]
 pub struct TrainArgs {
     /// TOML config, e.g. configs/logo/inverted_double_pendulum.toml
-    #[arg(long)]
-    config: PathBuf,
+    #[arg(long, required_unless_present = "resume")]
+    config: Option<PathBuf>,
+    /// Continue the run in this folder from its checkpoint (a killed run ends with the
+    /// same final checkpoint as an uninterrupted one). Takes the run's own config;
+    /// --iterations may extend it. Pass the run's --dtype if it was not f64.
+    #[arg(long, conflicts_with_all = ["config", "seed", "out", "threads"])]
+    resume: Option<PathBuf>,
     /// Overrides the config's seed.
     #[arg(long)]
     seed: Option<u64>,
@@ -43,10 +48,15 @@ pub struct TrainArgs {
     dtype: Dtype,
 }
 
+/// How a run starts.
+enum Start {
+    New(TrainConfig, PathBuf),
+    Resume(PathBuf, Option<usize>),
+}
+
 pub fn run(args: &TrainArgs) -> Result<()> {
-    let mut config = TrainConfig::load(&args.config)?;
-    if let Some(seed) = args.seed {
-        config.seed = seed;
+    if let Some(iterations) = args.iterations {
+        anyhow::ensure!(iterations > 0, "--iterations must be at least 1");
     }
     if let Some(target) = args.stop_at_return {
         anyhow::ensure!(
@@ -54,16 +64,26 @@ pub fn run(args: &TrainArgs) -> Result<()> {
             "--stop-at-return must be a finite number"
         );
     }
+    if let Some(dir) = &args.resume {
+        let start = Start::Resume(dir.clone(), args.iterations);
+        return match args.dtype {
+            Dtype::F64 => train::<CpuAutodiff>(start, args.stop_at_return),
+            Dtype::F32 => train::<Cpu32Autodiff>(start, args.stop_at_return),
+        };
+    }
+    let config_path = args.config.as_ref().expect("clap: --config or --resume");
+    let mut config = TrainConfig::load(config_path)?;
+    if let Some(seed) = args.seed {
+        config.seed = seed;
+    }
     if let Some(iterations) = args.iterations {
-        anyhow::ensure!(iterations > 0, "--iterations must be at least 1");
         config.iterations = iterations;
     }
     if let Some(threads) = args.threads {
         anyhow::ensure!(threads > 0, "--threads must be at least 1");
         config.threads = threads;
     }
-    let name = args
-        .config
+    let name = config_path
         .file_stem()
         .map_or("run".into(), |s| s.to_string_lossy().into_owned());
     let out = args
@@ -71,16 +91,30 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("runs/{name}-seed{}", config.seed)));
     match args.dtype {
-        Dtype::F64 => train::<CpuAutodiff>(config, out, args.stop_at_return),
-        Dtype::F32 => train::<Cpu32Autodiff>(config, out, args.stop_at_return),
+        Dtype::F64 => train::<CpuAutodiff>(Start::New(config, out), args.stop_at_return),
+        Dtype::F32 => train::<Cpu32Autodiff>(Start::New(config, out), args.stop_at_return),
     }
 }
 
-fn train<B: AutodiffBackend>(
-    config: TrainConfig,
-    out: PathBuf,
-    stop_at_return: Option<f64>,
-) -> Result<()> {
+fn train<B: AutodiffBackend>(start: Start, stop_at_return: Option<f64>) -> Result<()> {
+    let (mut trainer, out) = match start {
+        Start::New(config, out) => {
+            let trainer = Trainer::<B>::new(config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
+            (trainer, out)
+        }
+        Start::Resume(dir, iterations) => {
+            let trainer = Trainer::<B>::resume(&dir, iterations)
+                .map_err(|e| anyhow::anyhow!("{e}"))
+                .with_context(|| format!("--resume {}", dir.display()))?;
+            println!(
+                "resuming {} after iteration {}",
+                dir.display(),
+                trainer.iteration()
+            );
+            (trainer, dir)
+        }
+    };
+    let config = trainer.config.clone();
     let algorithm = if config.guidance.is_some() {
         "LOGO"
     } else {
@@ -97,7 +131,6 @@ fn train<B: AutodiffBackend>(
         config.threads,
         out.display()
     );
-    let mut trainer = Trainer::<B>::new(config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
     let total = trainer.config.iterations;
     let mut best = (f64::NEG_INFINITY, 0);
     let mut last = None;
@@ -136,7 +169,13 @@ fn train<B: AutodiffBackend>(
             break;
         }
     }
-    let last = last.expect("at least one iteration");
+    let Some(last) = last else {
+        println!(
+            "nothing to do: the run in {} has done its {total} iterations (--iterations extends it)",
+            out.display()
+        );
+        return Ok(());
+    };
     println!(
         "done in {:.1} s: final eval dense return {:.1}, best {:.1} at iteration {}; {} and {}",
         last.wall_s,

@@ -75,6 +75,8 @@ pub enum EnvError {
     ModelMissing(PathBuf),
     #[error("MuJoCo could not load {}: {reason}", path.display())]
     ModelLoad { path: PathBuf, reason: String },
+    #[error("{0}: not at the start of an episode (a reset point is taken right after a reset)")]
+    NotAtReset(String),
     #[error("invalid option: {0}")]
     InvalidOption(String),
 }
@@ -104,6 +106,54 @@ pub trait Env: Send {
     fn x_position(&self) -> f64 {
         self.state().0[0]
     }
+
+    /// Where this env stands right after a reset, with its reset-noise generator's position:
+    /// what a resumed training run needs to continue bit-identically. An error in the
+    /// middle of an episode (mid-episode MuJoCo state also holds solver warm-starts).
+    fn reset_point(&self) -> Result<ResetPoint, EnvError>;
+
+    /// Puts the env at `point`, exactly as if a reset had just produced it, and writes the
+    /// observation.
+    fn restore_reset_point(&mut self, point: &ResetPoint, obs: &mut [f64]) -> Result<(), EnvError>;
+}
+
+/// See [`Env::reset_point`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ResetPoint {
+    pub qpos: Vec<f64>,
+    pub qvel: Vec<f64>,
+    pub rng: RngState,
+}
+
+/// The exact position of a ChaCha8 stream.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RngState {
+    pub seed: [u8; 32],
+    pub stream: u64,
+    /// Decimal: JSON numbers cannot hold a u128.
+    pub word_pos: String,
+}
+
+impl RngState {
+    pub fn of(rng: &rand_chacha::ChaCha8Rng) -> Self {
+        Self {
+            seed: rng.get_seed(),
+            stream: rng.get_stream(),
+            word_pos: rng.get_word_pos().to_string(),
+        }
+    }
+
+    pub fn to_rng(&self) -> Result<rand_chacha::ChaCha8Rng, String> {
+        use rand::SeedableRng;
+        let word_pos: u128 = self
+            .word_pos
+            .parse()
+            .map_err(|_| format!("rng word_pos {:?} is not an integer", self.word_pos))?;
+        let mut rng = rand_chacha::ChaCha8Rng::from_seed(self.seed);
+        rng.set_stream(self.stream);
+        rng.set_word_pos(word_pos);
+        Ok(rng)
+    }
 }
 
 impl Env for Box<dyn Env> {
@@ -124,5 +174,11 @@ impl Env for Box<dyn Env> {
     }
     fn x_position(&self) -> f64 {
         (**self).x_position()
+    }
+    fn reset_point(&self) -> Result<ResetPoint, EnvError> {
+        (**self).reset_point()
+    }
+    fn restore_reset_point(&mut self, point: &ResetPoint, obs: &mut [f64]) -> Result<(), EnvError> {
+        (**self).restore_reset_point(point, obs)
     }
 }

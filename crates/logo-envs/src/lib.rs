@@ -19,7 +19,7 @@ mod sparse;
 mod vec_env;
 mod walker2d;
 
-pub use env::{Env, EnvError, EnvSpec, Step, StepInfo};
+pub use env::{Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo};
 pub use half_cheetah::HalfCheetah;
 pub use hopper::Hopper;
 pub use inverted_double_pendulum::InvertedDoublePendulum;

@@ -10,7 +10,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
-use crate::env::{Env, EnvError, EnvSpec, Step, StepInfo};
+use crate::env::{Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo};
 
 /// Simulation state of one env: an `MjData` over a model shared by all copies.
 pub type Data = MjData<Arc<MjModel>>;
@@ -274,5 +274,30 @@ impl<T: Task> Env for MujocoEnv<T> {
 
     fn state(&self) -> (&[f64], &[f64]) {
         (self.data.qpos(), self.data.qvel())
+    }
+
+    fn reset_point(&self) -> Result<ResetPoint, EnvError> {
+        if !self.running || self.elapsed_steps != 0 {
+            return Err(EnvError::NotAtReset(self.spec.id.clone()));
+        }
+        Ok(ResetPoint {
+            qpos: self.data.qpos().to_vec(),
+            qvel: self.data.qvel().to_vec(),
+            rng: RngState::of(&self.rng),
+        })
+    }
+
+    fn restore_reset_point(&mut self, point: &ResetPoint, obs: &mut [f64]) -> Result<(), EnvError> {
+        let rng = point
+            .rng
+            .to_rng()
+            .map_err(|e| EnvError::InvalidOption(format!("{}: {e}", self.spec.id)))?;
+        // As reset() does: cleared data (no warm-start), then the state, then forward.
+        self.data.reset();
+        self.set_state(&point.qpos, &point.qvel, obs)?;
+        self.rng = rng;
+        self.elapsed_steps = 0;
+        self.running = true;
+        Ok(())
     }
 }

@@ -2,7 +2,7 @@
 //! only for having gone far, or only once per episode. The dense reward stays in
 //! [`StepInfo::dense_reward`] so evaluation can report both.
 
-use crate::env::{Env, EnvError, EnvSpec, Step};
+use crate::env::{Env, EnvError, EnvSpec, ResetPoint, Step};
 
 /// How the sparse reward is paid.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -78,6 +78,16 @@ impl<E: Env> Env for SparseReward<E> {
             }
         };
         Ok(step)
+    }
+
+    fn reset_point(&self) -> Result<ResetPoint, EnvError> {
+        self.inner.reset_point()
+    }
+
+    fn restore_reset_point(&mut self, point: &ResetPoint, obs: &mut [f64]) -> Result<(), EnvError> {
+        self.inner.restore_reset_point(point, obs)?;
+        self.start_episode();
+        Ok(())
     }
 
     fn set_state(&mut self, qpos: &[f64], qvel: &[f64], obs: &mut [f64]) -> Result<(), EnvError> {

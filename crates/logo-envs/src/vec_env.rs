@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 
-use crate::env::{Env, EnvError, EnvSpec, Step};
+use crate::env::{Env, EnvError, EnvSpec, ResetPoint, Step};
 use crate::registry::EnvFactory;
 
 /// The outcome of one vectorised step, env-major (`obs[i * obs_dim..][..obs_dim]`).
@@ -83,6 +83,33 @@ impl VecEnv {
         };
         vec_env.reset(seed);
         Ok(vec_env)
+    }
+
+    /// Every copy's reset point (see [`Env::reset_point`]): valid between rollouts that
+    /// end with every copy freshly reset, as `logo_algo::rollout::collect` does.
+    pub fn reset_points(&self) -> Result<Vec<ResetPoint>, EnvError> {
+        self.envs.iter().map(|env| env.reset_point()).collect()
+    }
+
+    /// Restores every copy from [`Self::reset_points`].
+    pub fn restore_reset_points(&mut self, points: &[ResetPoint]) -> Result<(), EnvError> {
+        if points.len() != self.envs.len() {
+            return Err(EnvError::InvalidOption(format!(
+                "{} reset points for {} env copies",
+                points.len(),
+                self.envs.len()
+            )));
+        }
+        let obs_dim = self.spec.obs_dim;
+        for ((env, obs), point) in self
+            .envs
+            .iter_mut()
+            .zip(self.out.obs.chunks_mut(obs_dim))
+            .zip(points)
+        {
+            env.restore_reset_point(point, obs)?;
+        }
+        Ok(())
     }
 
     /// Resets every copy, copy `i` with seed `seed + i`.

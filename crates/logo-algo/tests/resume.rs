@@ -1,0 +1,100 @@
+//! A run killed after its last checkpoint and resumed ends exactly where an uninterrupted
+//! run of the same seed does: same final checkpoint bytes, same metrics.
+
+use std::path::{Path, PathBuf};
+
+use logo_algo::{TrainConfig, Trainer};
+use logo_nn::CpuAutodiff;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("logo-resume-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn config(dir: &Path, guidance: bool) -> TrainConfig {
+    let demos =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/logo/inverted_double_pendulum");
+    let mut text = format!(
+        r#"
+env = "SparseInvertedDoublePendulum-v4"
+iterations = 5
+samples_per_iter = 300
+num_envs = 3
+threads = 2
+policy_hidden = [16, 16]
+critic_hidden = [16, 16]
+critic_iters = 4
+eval_steps = 60
+checkpoint_every = 2
+seed = 11
+"#
+    );
+    if guidance {
+        text += &format!(
+            "[guidance]\ndemos = {:?}\ndelta0 = 0.2\nalpha = 0.9\nwarmup = 1\n",
+            demos.to_str().unwrap()
+        );
+    }
+    let path = dir.join("config.toml");
+    std::fs::write(&path, text).unwrap();
+    TrainConfig::load(&path).unwrap()
+}
+
+/// metrics.csv without the timing columns (wall_s and t_*).
+fn metrics(dir: &Path) -> Vec<String> {
+    let csv = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    csv.lines()
+        .map(|line| {
+            line.split(',')
+                .zip(&header)
+                .filter(|(_, h)| **h != "wall_s" && !h.starts_with("t_"))
+                .map(|(v, _)| v)
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect()
+}
+
+fn check(guidance: bool) {
+    let name = if guidance { "logo" } else { "trpo" };
+    let whole = scratch(&format!("{name}-whole"));
+    let mut trainer = Trainer::<CpuAutodiff>::new(config(&whole, guidance), &whole).unwrap();
+    while !trainer.done() {
+        trainer.step().unwrap();
+    }
+    drop(trainer);
+
+    let killed = scratch(&format!("{name}-killed"));
+    let mut trainer = Trainer::<CpuAutodiff>::new(config(&killed, guidance), &killed).unwrap();
+    for _ in 0..3 {
+        trainer.step().unwrap(); // checkpoint after iteration 2, then one more row
+    }
+    drop(trainer); // killed before the next checkpoint
+    let mut resumed = Trainer::<CpuAutodiff>::resume(&killed, None).unwrap();
+    assert_eq!(resumed.iteration(), 2);
+    while !resumed.done() {
+        resumed.step().unwrap();
+    }
+    drop(resumed);
+
+    let bytes = |dir: &Path| std::fs::read(dir.join("checkpoint.safetensors")).unwrap();
+    assert!(
+        bytes(&whole) == bytes(&killed),
+        "{name}: the resumed run's final checkpoint differs from the uninterrupted one"
+    );
+    assert_eq!(metrics(&whole), metrics(&killed), "{name}");
+    assert_eq!(metrics(&whole).len(), 6, "a header and 5 rows");
+}
+
+#[test]
+fn a_killed_logo_run_resumes_to_the_same_final_checkpoint() {
+    check(true);
+}
+
+#[test]
+fn a_killed_trpo_run_resumes_to_the_same_final_checkpoint() {
+    check(false);
+}
