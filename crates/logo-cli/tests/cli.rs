@@ -267,3 +267,26 @@ fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
     ]));
     assert!(err.contains("not a Minari dataset folder"), "{err}");
 }
+
+#[test]
+fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
+    let dir = scratch("resume");
+    write_npy(&dir.join("demos.npy"), 40, 12);
+    let config = dir.join("tiny.toml");
+    std::fs::write(&config, TINY).unwrap();
+    let run_dir = dir.join("run");
+    let run = dir.join("run").to_str().unwrap().to_string();
+    let out = logo(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = logo(&["train", "--resume", &run, "--iterations", "3"]);
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("resuming") && stdout.contains("[   3/3]"), "{stdout}");
+    let csv = std::fs::read_to_string(run_dir.join("metrics.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4, "{csv}");
+    let out = logo(&["train", "--resume", &run]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("nothing to do"));
+    // A folder without a checkpoint: one clear line.
+    let err = stderr_line(&logo(&["train", "--resume", dir.to_str().unwrap()]));
+    assert!(err.contains("checkpoint.safetensors"), "{err}");
+}
