@@ -17,6 +17,12 @@ pub enum Dtype {
     F32,
 }
 
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum StopMetric {
+    Eval,
+    Train,
+}
+
 #[derive(Args)]
 pub struct TrainArgs {
     /// TOML config, e.g. configs/logo/inverted_double_pendulum.toml
@@ -38,6 +44,12 @@ pub struct TrainArgs {
     /// behaviour level, then `logo data record`.
     #[arg(long)]
     stop_at_return: Option<f64>,
+    /// Which return --stop-at-return watches: the deterministic evaluation's (dense), or
+    /// the mean return of the iteration's sampled training episodes (the stochastic
+    /// policy's, in the training env's reward): the one to use when the demonstrations
+    /// will be recorded with sampled actions.
+    #[arg(long, value_enum, default_value_t = StopMetric::Eval)]
+    stop_metric: StopMetric,
     /// Output folder (default: runs/<config name>-seed<seed>).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -66,9 +78,10 @@ pub fn run(args: &TrainArgs) -> Result<()> {
     }
     if let Some(dir) = &args.resume {
         let start = Start::Resume(dir.clone(), args.iterations);
+        let stop = args.stop_at_return.map(|r| (r, args.stop_metric));
         return match args.dtype {
-            Dtype::F64 => train::<CpuAutodiff>(start, args.stop_at_return),
-            Dtype::F32 => train::<Cpu32Autodiff>(start, args.stop_at_return),
+            Dtype::F64 => train::<CpuAutodiff>(start, stop),
+            Dtype::F32 => train::<Cpu32Autodiff>(start, stop),
         };
     }
     let config_path = args.config.as_ref().expect("clap: --config or --resume");
@@ -90,13 +103,14 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("runs/{name}-seed{}", config.seed)));
+    let stop = args.stop_at_return.map(|r| (r, args.stop_metric));
     match args.dtype {
-        Dtype::F64 => train::<CpuAutodiff>(Start::New(config, out), args.stop_at_return),
-        Dtype::F32 => train::<Cpu32Autodiff>(Start::New(config, out), args.stop_at_return),
+        Dtype::F64 => train::<CpuAutodiff>(Start::New(config, out), stop),
+        Dtype::F32 => train::<Cpu32Autodiff>(Start::New(config, out), stop),
     }
 }
 
-fn train<B: AutodiffBackend>(start: Start, stop_at_return: Option<f64>) -> Result<()> {
+fn train<B: AutodiffBackend>(start: Start, stop: Option<(f64, StopMetric)>) -> Result<()> {
     let (mut trainer, out) = match start {
         Start::New(config, out) => {
             let trainer = Trainer::<B>::new(config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -154,7 +168,10 @@ fn train<B: AutodiffBackend>(start: Start, stop_at_return: Option<f64>) -> Resul
             per_iter,
             per_iter * (total - m.iteration - 1) as f64
         );
-        let reached = stop_at_return.is_some_and(|target| m.eval_dense_return >= target);
+        let reached = stop.is_some_and(|(target, metric)| match metric {
+            StopMetric::Eval => m.eval_dense_return >= target,
+            StopMetric::Train => m.train_sparse_return >= target,
+        });
         last = Some(m);
         if reached {
             let path = out.join("checkpoint.safetensors");
@@ -162,8 +179,9 @@ fn train<B: AutodiffBackend>(start: Start, stop_at_return: Option<f64>) -> Resul
                 .save_checkpoint(&path)
                 .map_err(|e| anyhow::anyhow!("{e}"))?;
             println!(
-                "reached --stop-at-return {}: stopped, policy in {}",
-                stop_at_return.unwrap_or_default(),
+                "reached --stop-at-return {} ({:?} return): stopped, policy in {}",
+                stop.map_or(0.0, |s| s.0),
+                stop.map_or(StopMetric::Eval, |s| s.1),
                 path.display()
             );
             break;
