@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::critic::CriticKind;
+use crate::rollout::RolloutMode;
 use crate::trpo::PolicyStepConfig;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -20,6 +21,10 @@ pub struct TrainConfig {
     pub iterations: usize,
     /// Whole episodes until at least this many steps per iteration.
     pub samples_per_iter: usize,
+    /// How batches are cut: "episodes" (whole episodes, the reference) or "steps" (a
+    /// fixed number of steps per env copy; such runs cannot be resumed).
+    #[serde(default)]
+    pub rollout: RolloutMode,
     #[serde(default = "default_num_envs")]
     pub num_envs: usize,
     #[serde(default = "default_threads")]

@@ -1,9 +1,11 @@
-//! Collecting a batch: whole episodes from the vectorised env, the policy batched over
-//! the copies, until at least `min_steps` steps (the reference's rule). Once the steps
-//! taken (finished episodes and those in progress) reach `min_steps`, no copy starts a
-//! new episode; the episodes in progress finish. The reference collects one episode after
-//! another and overshoots by less than one episode; with N copies the overshoot is at
-//! most the rest of N episodes, so keep N small (the configs use one copy per core).
+//! Collecting a batch from the vectorised env, the policy batched over the copies.
+//!
+//! `Episodes` (default, the reference's rule): whole episodes until at least
+//! `samples_per_iter` steps. Once the steps taken (finished episodes and those in
+//! progress) reach it, no copy starts a new episode; the episodes in progress finish. The
+//! reference collects one episode after another and overshoots by less than one episode;
+//! with N copies the overshoot is at most the rest of N episodes, so keep N small (the
+//! configs use one copy per core). `Steps`: a fixed number of steps per copy.
 
 use burn::tensor::backend::Backend;
 use logo_envs::{EnvError, VecEnv};
@@ -47,73 +49,144 @@ impl Batch {
     }
 }
 
-/// One copy's episode in progress.
+/// How a batch is cut from the env copies' episodes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RolloutMode {
+    /// Whole episodes until at least `samples_per_iter` steps (the reference's rule);
+    /// every copy ends the batch freshly reset.
+    #[default]
+    Episodes,
+    /// Exactly ceil(`samples_per_iter` / copies) steps per copy. An episode still running
+    /// at the end of a batch is cut there (bootstrapped from V of its last state, like a
+    /// time-limit truncation) and continues in the next batch.
+    Steps,
+}
+
+/// One copy's episode in progress: the steps of this batch, and the episode's returns
+/// so far (which include earlier batches' steps in `Steps` mode).
 #[derive(Default, Clone)]
 struct Episode {
     obs: Vec<f64>,
     actions: Vec<f64>,
     rewards: Vec<f64>,
     dense: Vec<f64>,
+    total: f64,
+    total_dense: f64,
 }
 
-pub fn collect<B: Backend>(
-    venv: &mut VecEnv,
-    policy: &GaussianPolicy<B>,
-    rng: &mut ChaCha8Rng,
-    min_steps: usize,
-) -> Result<Batch, EnvError> {
-    let (n, obs_dim, act_dim) = (venv.num_envs(), venv.spec().obs_dim, venv.spec().act_dim);
-    let policy = policy.acting();
-    let mut batch = Batch {
-        obs_dim,
-        act_dim,
-        ..Default::default()
-    };
-    let mut episodes = vec![Episode::default(); n];
-    let mut active = vec![true; n];
-    let mut steps_taken = 0;
-    while active.iter().any(|a| *a) {
-        let obs = venv.obs().to_vec();
-        let actions = policy.sample(&obs, rng);
-        let out = venv.step_active(&actions, &active)?;
-        steps_taken += active.iter().filter(|a| **a).count();
-        for i in 0..n {
-            if !active[i] {
-                continue;
-            }
-            let (step, ep) = (out.steps[i], &mut episodes[i]);
-            ep.obs.extend_from_slice(&obs[i * obs_dim..][..obs_dim]);
-            ep.actions
-                .extend_from_slice(&actions[i * act_dim..][..act_dim]);
-            ep.rewards.push(step.reward);
-            ep.dense.push(step.info.dense_reward);
-            if !step.done() {
-                continue;
-            }
-            let len = ep.rewards.len();
-            batch
-                .terminated
-                .extend(std::iter::repeat_n(false, len - 1).chain([step.terminated]));
-            batch
-                .episode_end
-                .extend(std::iter::repeat_n(false, len - 1).chain([true]));
-            if !step.terminated {
-                batch.truncations.push((
-                    batch.rewards.len() + len - 1,
-                    out.final_obs[i * obs_dim..][..obs_dim].to_vec(),
-                ));
-            }
-            batch.episode_returns.push(ep.rewards.iter().sum());
-            batch.episode_dense_returns.push(ep.dense.iter().sum());
-            let ep = std::mem::take(ep);
-            batch.obs.extend(ep.obs);
-            batch.actions.extend(ep.actions);
-            batch.rewards.extend(ep.rewards);
-            batch.dense_rewards.extend(ep.dense);
-            if steps_taken >= min_steps {
-                active[i] = false;
-            }
+/// Collects batches from a vectorised env; keeps the episodes that continue from one
+/// batch to the next (`Steps` mode).
+pub struct Sampler {
+    pub mode: RolloutMode,
+    episodes: Vec<Episode>,
+}
+
+impl Batch {
+    /// Appends a copy's steps of this batch as one segment. `final_obs`: the observation
+    /// after the last step, which bootstraps a segment that did not terminate;
+    /// `episode_over`: the episode ended here (its returns are logged).
+    fn push_segment(
+        &mut self,
+        ep: &mut Episode,
+        terminated: bool,
+        final_obs: &[f64],
+        episode_over: bool,
+    ) {
+        let len = ep.rewards.len();
+        if len == 0 {
+            return;
+        }
+        self.terminated
+            .extend(std::iter::repeat_n(false, len - 1).chain([terminated]));
+        self.episode_end
+            .extend(std::iter::repeat_n(false, len - 1).chain([true]));
+        if !terminated {
+            self.truncations
+                .push((self.rewards.len() + len - 1, final_obs.to_vec()));
+        }
+        if episode_over {
+            self.episode_returns.push(ep.total);
+            self.episode_dense_returns.push(ep.total_dense);
+        }
+        self.obs.append(&mut ep.obs);
+        self.actions.append(&mut ep.actions);
+        self.rewards.append(&mut ep.rewards);
+        self.dense_rewards.append(&mut ep.dense);
+    }
+}
+
+impl Sampler {
+    pub fn new(mode: RolloutMode, num_envs: usize) -> Self {
+        Self {
+            mode,
+            episodes: vec![Episode::default(); num_envs],
         }
     }
-    Ok(batch)
+
+    /// Whether every copy stands at the start of an episode (between batches of
+    /// `Episodes` mode): then the run can be checkpointed for `--resume`.
+    pub fn at_episode_starts(&self) -> bool {
+        self.mode == RolloutMode::Episodes
+    }
+
+    /// One batch of at least `samples` steps with `policy` (see [`RolloutMode`]).
+    pub fn collect<B: Backend>(
+        &mut self,
+        venv: &mut VecEnv,
+        policy: &GaussianPolicy<B>,
+        rng: &mut ChaCha8Rng,
+        samples: usize,
+    ) -> Result<Batch, EnvError> {
+        let (n, obs_dim, act_dim) = (venv.num_envs(), venv.spec().obs_dim, venv.spec().act_dim);
+        let policy = policy.acting();
+        let mut batch = Batch {
+            obs_dim,
+            act_dim,
+            ..Default::default()
+        };
+        let steps_per_copy = samples.div_ceil(n);
+        let mut active = vec![true; n];
+        let mut steps_taken = 0;
+        let mut round = 0;
+        while active.iter().any(|a| *a) {
+            let obs = venv.obs().to_vec();
+            let actions = policy.sample(&obs, rng);
+            let out = venv.step_active(&actions, &active)?;
+            steps_taken += active.iter().filter(|a| **a).count();
+            round += 1;
+            for i in 0..n {
+                if !active[i] {
+                    continue;
+                }
+                let (step, ep) = (out.steps[i], &mut self.episodes[i]);
+                ep.obs.extend_from_slice(&obs[i * obs_dim..][..obs_dim]);
+                ep.actions
+                    .extend_from_slice(&actions[i * act_dim..][..act_dim]);
+                ep.rewards.push(step.reward);
+                ep.dense.push(step.info.dense_reward);
+                ep.total += step.reward;
+                ep.total_dense += step.info.dense_reward;
+                let final_obs = if step.done() {
+                    &out.final_obs[i * obs_dim..][..obs_dim]
+                } else {
+                    &out.obs[i * obs_dim..][..obs_dim]
+                };
+                if step.done() {
+                    batch.push_segment(ep, step.terminated, final_obs, true);
+                    *ep = Episode::default();
+                }
+                let stop = match self.mode {
+                    RolloutMode::Episodes => step.done() && steps_taken >= samples,
+                    RolloutMode::Steps => round == steps_per_copy,
+                };
+                if stop {
+                    // Steps mode: cut the running episode here; it goes on next batch.
+                    batch.push_segment(ep, false, final_obs, false);
+                    active[i] = false;
+                }
+            }
+        }
+        Ok(batch)
+    }
 }

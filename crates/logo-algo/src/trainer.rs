@@ -31,7 +31,7 @@ use crate::config::TrainConfig;
 use crate::critic::Critic;
 use crate::gae::{GaeInput, gae, normalise};
 use crate::guidance::{Adam, DeltaSchedule, DiscriminatorTrainer, behaviour_rewards};
-use crate::rollout::{Batch, collect};
+use crate::rollout::{Batch, Sampler};
 use crate::trpo::{StepData, trpo_step};
 
 /// Anything that stops a run, as one message naming its cause.
@@ -91,6 +91,7 @@ pub struct Trainer<B: AutodiffBackend> {
     pub config: TrainConfig,
     out_dir: PathBuf,
     venv: VecEnv,
+    sampler: Sampler,
     eval_env: Box<dyn Env>,
     policy: GaussianPolicy<Inner<B>>,
     critic: Critic<Inner<B>>,
@@ -187,6 +188,13 @@ impl<B: AutodiffBackend> Trainer<B> {
         let extra = &ckpt.meta.extra;
         let mut config: TrainConfig = serde_json::from_value(extra["config"].clone())
             .map_err(|e| bad(&format!("metadata config: {e}")))?;
+        if extra["resume"].is_null() {
+            return Err(bad(
+                "holds no resume state (runs with rollout = \"steps\" continue episodes \
+                 across iterations and cannot be resumed exactly; older checkpoints lack it)",
+            )
+            .into());
+        }
         let state: ResumeState = serde_json::from_value(extra["resume"].clone())
             .map_err(|e| bad(&format!("metadata resume state: {e}")))?;
         if let Some(n) = iterations {
@@ -320,6 +328,7 @@ impl<B: AutodiffBackend> Trainer<B> {
         };
         let trainer = Self {
             rng: ChaCha8Rng::seed_from_u64(config.seed),
+            sampler: Sampler::new(config.rollout, config.num_envs),
             config,
             out_dir: out_dir.to_path_buf(),
             venv,
@@ -370,7 +379,7 @@ impl<B: AutodiffBackend> Trainer<B> {
             dt
         };
         // 1. Collect with π_k.
-        let batch = collect(
+        let batch = self.sampler.collect(
             &mut self.venv,
             &self.policy,
             &mut self.rng,
@@ -553,13 +562,19 @@ impl<B: AutodiffBackend> Trainer<B> {
             ),
             None => (None, None),
         };
-        let resume = ResumeState {
-            iteration: self.iteration,
-            samples: self.samples,
-            sampler_rng: RngState::of(&self.rng),
-            env_points: self.venv.reset_points()?,
-            schedule,
-            adam,
+        // Only between batches that leave every copy freshly reset can the envs be
+        // restored exactly (mid-episode MuJoCo state also holds solver warm-starts).
+        let resume = if self.sampler.at_episode_starts() {
+            Some(ResumeState {
+                iteration: self.iteration,
+                samples: self.samples,
+                sampler_rng: RngState::of(&self.rng),
+                env_points: self.venv.reset_points()?,
+                schedule,
+                adam,
+            })
+        } else {
+            None
         };
         meta.extra = serde_json::json!({
             "samples": self.samples,

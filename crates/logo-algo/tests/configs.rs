@@ -33,5 +33,8 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
             checked += 1;
         }
     }
-    assert_eq!(checked, 8, "four tasks, LOGO and TRPO");
+    assert_eq!(
+        checked, 9,
+        "four tasks, LOGO and TRPO, and the Hopper behaviour config"
+    );
 }

@@ -98,3 +98,21 @@ fn a_killed_logo_run_resumes_to_the_same_final_checkpoint() {
 fn a_killed_trpo_run_resumes_to_the_same_final_checkpoint() {
     check(false);
 }
+
+#[test]
+fn a_steps_mode_run_says_it_cannot_be_resumed() {
+    let dir = scratch("steps");
+    let mut config = config(&dir, false);
+    config.rollout = logo_algo::rollout::RolloutMode::Steps;
+    config.iterations = 2;
+    let mut trainer = Trainer::<CpuAutodiff>::new(config, &dir).unwrap();
+    while !trainer.done() {
+        trainer.step().unwrap();
+    }
+    drop(trainer);
+    let err = Trainer::<CpuAutodiff>::resume(&dir, None)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("cannot be resumed"), "{err}");
+}

@@ -277,11 +277,22 @@ fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
     let run_dir = dir.join("run");
     let run = dir.join("run").to_str().unwrap().to_string();
     let out = logo(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let out = logo(&["train", "--resume", &run, "--iterations", "3"]);
     let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(stdout.contains("resuming") && stdout.contains("[   3/3]"), "{stdout}");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("resuming") && stdout.contains("[   3/3]"),
+        "{stdout}"
+    );
     let csv = std::fs::read_to_string(run_dir.join("metrics.csv")).unwrap();
     assert_eq!(csv.lines().count(), 4, "{csv}");
     let out = logo(&["train", "--resume", &run]);

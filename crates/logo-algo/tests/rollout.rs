@@ -1,0 +1,55 @@
+//! The two ways of cutting a batch.
+
+use logo_algo::rollout::{RolloutMode, Sampler};
+use logo_envs::{EnvFactory, EnvOptions, VecEnv};
+use logo_nn::{Cpu, PolicyConfig};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+fn setup() -> (VecEnv, logo_nn::GaussianPolicy<Cpu>) {
+    let factory = EnvFactory::new("Hopper-v4", &EnvOptions::default()).unwrap();
+    let venv = VecEnv::new(&factory, 3, 1, 5).unwrap();
+    let policy = PolicyConfig::new(11, 3).init::<Cpu>(&Default::default());
+    (venv, policy)
+}
+
+#[test]
+fn steps_mode_takes_a_fixed_number_of_steps_per_copy_and_continues_episodes() {
+    let (mut venv, policy) = setup();
+    let mut sampler = Sampler::new(RolloutMode::Steps, 3);
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let mut total_reward = 0.0;
+    let mut total_logged = 0.0;
+    for _ in 0..4 {
+        let batch = sampler.collect(&mut venv, &policy, &mut rng, 100).unwrap();
+        assert_eq!(batch.len(), 3 * 34, "ceil(100 / 3) steps per copy");
+        let ends = batch.episode_end.iter().filter(|e| **e).count();
+        let terminated = batch.terminated.iter().filter(|t| **t).count();
+        // Every segment ends either terminated or bootstrapped (truncated or cut).
+        assert_eq!(ends, terminated + batch.truncations.len());
+        // Each copy's batch ends with a cut or an episode end: at least 3 segments.
+        assert!(ends >= 3);
+        total_reward += batch.rewards.iter().sum::<f64>();
+        total_logged += batch.episode_returns.iter().sum::<f64>();
+    }
+    // Completed episodes are logged with their whole return, earlier batches included;
+    // what is not logged is the three episodes still running.
+    assert!(total_logged <= total_reward + 1e-9 && total_logged > 0.0);
+    assert!(!sampler.at_episode_starts());
+}
+
+#[test]
+fn episodes_mode_collects_whole_episodes_past_the_sample_count() {
+    let (mut venv, policy) = setup();
+    let mut sampler = Sampler::new(RolloutMode::Episodes, 3);
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let batch = sampler.collect(&mut venv, &policy, &mut rng, 100).unwrap();
+    assert!(batch.len() >= 100);
+    assert_eq!(batch.episode_end.last(), Some(&true));
+    let ends = batch.episode_end.iter().filter(|e| **e).count();
+    assert_eq!(ends, batch.episode_returns.len(), "only whole episodes");
+    let total: f64 = batch.rewards.iter().sum();
+    let logged: f64 = batch.episode_returns.iter().sum();
+    assert!((total - logged).abs() < 1e-9 * total.abs().max(1.0));
+    assert!(venv.reset_points().is_ok(), "every copy freshly reset");
+}
