@@ -34,7 +34,7 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
         }
     }
     assert_eq!(
-        checked, 9,
-        "four tasks, LOGO and TRPO, and the Hopper behaviour config"
+        checked, 10,
+        "four tasks, LOGO and TRPO; the Hopper behaviour pipeline and LOGO from its set"
     );
 }

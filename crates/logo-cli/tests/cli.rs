@@ -301,3 +301,29 @@ fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
     let err = stderr_line(&logo(&["train", "--resume", dir.to_str().unwrap()]));
     assert!(err.contains("checkpoint.safetensors"), "{err}");
 }
+
+#[test]
+fn inspect_works_on_every_shipped_dataset() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data");
+    let mut inspected = 0;
+    for group in ["logo", "behaviour"] {
+        for entry in std::fs::read_dir(data.join(group)).unwrap() {
+            let path = entry.unwrap().path();
+            let out = logo(&["data", "inspect", path.to_str().unwrap(), "--json"]);
+            assert!(
+                out.status.success(),
+                "{}: {}",
+                path.display(),
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+            assert!(
+                summary["steps"].as_u64().unwrap() > 100,
+                "{}",
+                path.display()
+            );
+            inspected += 1;
+        }
+    }
+    assert_eq!(inspected, 5, "four LOGO sets and the Hopper behaviour set");
+}
