@@ -8,7 +8,8 @@ use burn::tensor::backend::{AutodiffBackend, Backend};
 use logo_data::Demonstrations;
 use logo_nn::discriminator::softplus;
 use logo_nn::flat::{from_f64, grads_to_vec, params_to_vec, to_f64, vec_to_params};
-use logo_nn::{Discriminator, DiscriminatorConfig, GaussianPolicy};
+use logo_nn::host::is_host_backend;
+use logo_nn::{Discriminator, DiscriminatorConfig, GaussianPolicy, HostMlp};
 use serde::{Deserialize, Serialize};
 
 /// δ_k: starts at δ_0; after the warm-up (iterations > K_δ, 0-based) it shrinks by α each
@@ -92,6 +93,23 @@ pub struct DiscriminatorTrainer<B: AutodiffBackend> {
     lr: f64,
     demo_obs: Tensor<B, 2>,
     demo_actions: Tensor<B, 2>,
+    /// The demonstrations as host rows, for the host path (made on first use).
+    demo_rows: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+/// log(1 + eˣ) without overflow.
+fn softplus_f64(x: f64) -> f64 {
+    x.max(0.0) + (-x.abs()).exp().ln_1p()
+}
+
+/// 1 / (1 + e⁻ˣ) without overflow.
+fn sigmoid_f64(x: f64) -> f64 {
+    if x >= 0.0 {
+        1.0 / (1.0 + (-x).exp())
+    } else {
+        let e = x.exp();
+        e / (1.0 + e)
+    }
 }
 
 impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
@@ -109,6 +127,7 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
             lr,
             demo_obs: from_f64(&demos.obs, [rows, demos.obs_dim], device),
             demo_actions: from_f64(&demos.actions, [rows, demos.act_dim], device),
+            demo_rows: None,
         }
     }
 
@@ -118,23 +137,88 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
         obs: Tensor<B::InnerBackend, 2>,
         actions: Tensor<B::InnerBackend, 2>,
     ) -> Vec<f64> {
+        if is_host_backend::<B::InnerBackend>() {
+            let inputs = self.host_inputs(&to_f64(obs), &to_f64(actions));
+            let net = HostMlp::from_mlp(&self.disc.net);
+            return net
+                .forward(&inputs)
+                .iter()
+                .map(|l| softplus_f64(-l))
+                .collect();
+        }
         to_f64(self.disc.valid().guidance_reward(obs, actions))
     }
 
     /// One Adam step; returns the loss before it.
+    /// One Adam step on the BCE loss (policy pairs labelled 1, demonstration pairs 0);
+    /// returns the loss before the step. On the default CPU backend the loss and its
+    /// gradient run on host buffers (`logo_nn::host`), elsewhere through burn's autodiff.
     pub fn update(&mut self, obs: Tensor<B, 2>, actions: Tensor<B, 2>) -> f64 {
+        if is_host_backend::<B::InnerBackend>() {
+            self.update_host(&to_f64(obs), &to_f64(actions))
+        } else {
+            self.update_burn(obs, actions)
+        }
+    }
+
+    fn update_burn(&mut self, obs: Tensor<B, 2>, actions: Tensor<B, 2>) -> f64 {
         let policy_logits = self.disc.logits(obs, actions);
         let demo_logits = self
             .disc
             .logits(self.demo_obs.clone(), self.demo_actions.clone());
-        // BCE(label 1) = softplus(−z); BCE(label 0) = softplus(z).
         let loss = softplus(policy_logits.neg()).mean() + softplus(demo_logits).mean();
         let value = to_f64(loss.clone().inner())[0];
         let grad = grads_to_vec(&self.disc, &loss.backward());
-        let mut theta = params_to_vec(&self.disc);
-        self.optim.step(&mut theta, &grad, self.lr);
-        self.disc = vec_to_params(self.disc.clone(), &theta);
+        self.adam_step(&grad);
         value
+    }
+
+    /// The discriminator's input rows `[obs[..observe] ‖ action]`.
+    fn host_inputs(&self, obs: &[f64], actions: &[f64]) -> Vec<f64> {
+        let (observe, act_dim) = (self.disc.observe, self.demo_actions.dims()[1]);
+        let obs_dim = obs.len() / (actions.len() / act_dim).max(1);
+        obs.chunks_exact(obs_dim)
+            .zip(actions.chunks_exact(act_dim))
+            .flat_map(|(o, a)| o[..observe].iter().chain(a).copied())
+            .collect()
+    }
+
+    /// As [`Self::update_burn`]: d/dl softplus(−l) = −σ(−l), d/dl softplus(l) = σ(l).
+    fn update_host(&mut self, obs: &[f64], actions: &[f64]) -> f64 {
+        let net = HostMlp::from_mlp(&self.disc.net);
+        let demo_rows = self.demo_rows.get_or_insert_with(|| {
+            let demo_obs = to_f64(self.demo_obs.clone());
+            let demo_actions = to_f64(self.demo_actions.clone());
+            (demo_obs, demo_actions)
+        });
+        let (demo_obs, demo_actions) = demo_rows.clone();
+        let mut value = 0.0;
+        let mut grad = vec![0.0; net.num_params()];
+        for (inputs, label_policy) in [
+            (self.host_inputs(obs, actions), true),
+            (self.host_inputs(&demo_obs, &demo_actions), false),
+        ] {
+            let trace = net.trace(&inputs);
+            let logits = trace.output();
+            let n = logits.len() as f64;
+            let sign = if label_policy { -1.0 } else { 1.0 };
+            value += logits.iter().map(|l| softplus_f64(sign * l)).sum::<f64>() / n;
+            let upstream: Vec<f64> = logits
+                .iter()
+                .map(|l| sign * sigmoid_f64(sign * l) / n)
+                .collect();
+            grad.iter_mut()
+                .zip(net.vjp(&trace, &upstream))
+                .for_each(|(g, d)| *g += d);
+        }
+        self.adam_step(&grad);
+        value
+    }
+
+    fn adam_step(&mut self, grad: &[f64]) {
+        let mut theta = params_to_vec(&self.disc);
+        self.optim.step(&mut theta, grad, self.lr);
+        self.disc = vec_to_params(self.disc.clone(), &theta);
     }
 }
 
@@ -151,6 +235,63 @@ pub fn behaviour_rewards<B: Backend>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The host path's loss, gradient step and rewards against burn's autodiff path, on a
+    /// censored discriminator (observe < obs_dim) away from its initialisation.
+    #[test]
+    fn host_and_burn_discriminator_updates_agree() {
+        use logo_nn::CpuAutodiff;
+        use rand::{Rng, SeedableRng};
+        let device = Default::default();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(4);
+        let mut random =
+            |n: usize| -> Vec<f64> { (0..n).map(|_| rng.random_range(-1.5..1.5)).collect() };
+        let demos = Demonstrations {
+            obs_dim: 5,
+            act_dim: 2,
+            obs: random(30 * 5),
+            actions: random(30 * 2),
+            source: "test".into(),
+        };
+        let config = DiscriminatorConfig {
+            observe: 3,
+            act_dim: 2,
+            hidden: vec![8, 8],
+        };
+        let mut burn = DiscriminatorTrainer::<CpuAutodiff>::new(&config, &demos, 1e-2, &device);
+        let theta: Vec<f64> = random(params_to_vec(&burn.disc).len());
+        burn.disc = vec_to_params(burn.disc, &theta);
+        let mut host = DiscriminatorTrainer::<CpuAutodiff>::new(&config, &demos, 1e-2, &device);
+        host.disc = vec_to_params(host.disc, &theta);
+        let (obs, actions) = (random(50 * 5), random(50 * 2));
+        for _ in 0..3 {
+            let a = burn.update_burn(
+                from_f64(&obs, [50, 5], &device),
+                from_f64(&actions, [50, 2], &device),
+            );
+            let b = host.update_host(&obs, &actions);
+            assert!((a - b).abs() < 1e-12, "loss {a} vs {b}");
+        }
+        let (pb, ph) = (params_to_vec(&burn.disc), params_to_vec(&host.disc));
+        let err = pb
+            .iter()
+            .zip(&ph)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(err < 1e-10, "parameters differ by {err:e} after 3 steps");
+        assert_ne!(pb, theta, "the steps moved the parameters");
+        let inner = |v: &[f64], c| from_f64::<logo_nn::Cpu, 2>(v, [50, c], &device);
+        let rb = to_f64(
+            burn.disc
+                .valid()
+                .guidance_reward(inner(&obs, 5), inner(&actions, 2)),
+        );
+        let rh = host.rewards(inner(&obs, 5), inner(&actions, 2));
+        let err = rb
+            .iter()
+            .zip(&rh)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(err < 1e-12, "rewards differ by {err:e}");
+    }
 
     #[test]
     fn delta_shrinks_only_after_warmup_and_only_on_improvement() {
