@@ -16,7 +16,7 @@ fn scratch(name: &str) -> PathBuf {
 fn config(dir: &Path, guidance: bool) -> TrainConfig {
     let demos =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/logo/inverted_double_pendulum");
-    let mut text = format!(
+    let mut text = String::from(
         r#"
 env = "SparseInvertedDoublePendulum-v4"
 iterations = 5
@@ -29,7 +29,7 @@ critic_iters = 4
 eval_steps = 60
 checkpoint_every = 2
 seed = 11
-"#
+"#,
     );
     if guidance {
         text += &format!(

@@ -62,7 +62,7 @@ pub struct TrainArgs {
 
 /// How a run starts.
 enum Start {
-    New(TrainConfig, PathBuf),
+    New(Box<TrainConfig>, PathBuf),
     Resume(PathBuf, Option<usize>),
 }
 
@@ -105,15 +105,15 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from(format!("runs/{name}-seed{}", config.seed)));
     let stop = args.stop_at_return.map(|r| (r, args.stop_metric));
     match args.dtype {
-        Dtype::F64 => train::<CpuAutodiff>(Start::New(config, out), stop),
-        Dtype::F32 => train::<Cpu32Autodiff>(Start::New(config, out), stop),
+        Dtype::F64 => train::<CpuAutodiff>(Start::New(Box::new(config), out), stop),
+        Dtype::F32 => train::<Cpu32Autodiff>(Start::New(Box::new(config), out), stop),
     }
 }
 
 fn train<B: AutodiffBackend>(start: Start, stop: Option<(f64, StopMetric)>) -> Result<()> {
     let (mut trainer, out) = match start {
         Start::New(config, out) => {
-            let trainer = Trainer::<B>::new(config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let trainer = Trainer::<B>::new(*config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
             (trainer, out)
         }
         Start::Resume(dir, iterations) => {
