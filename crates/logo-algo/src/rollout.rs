@@ -10,6 +10,7 @@
 use burn::tensor::backend::Backend;
 use logo_envs::{EnvError, VecEnv};
 use logo_nn::GaussianPolicy;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Whole episodes laid end to end, row-major.
@@ -116,6 +117,28 @@ impl Batch {
     }
 }
 
+impl Batch {
+    /// Appends `other`'s segments after this batch's.
+    fn append(&mut self, mut other: Batch) {
+        let offset = self.rewards.len();
+        self.truncations.extend(
+            other
+                .truncations
+                .drain(..)
+                .map(|(t, obs)| (t + offset, obs)),
+        );
+        self.obs.append(&mut other.obs);
+        self.actions.append(&mut other.actions);
+        self.rewards.append(&mut other.rewards);
+        self.dense_rewards.append(&mut other.dense_rewards);
+        self.terminated.append(&mut other.terminated);
+        self.episode_end.append(&mut other.episode_end);
+        self.episode_returns.append(&mut other.episode_returns);
+        self.episode_dense_returns
+            .append(&mut other.episode_dense_returns);
+    }
+}
+
 impl Sampler {
     pub fn new(mode: RolloutMode, num_envs: usize) -> Self {
         Self {
@@ -131,6 +154,13 @@ impl Sampler {
     }
 
     /// One batch of at least `samples` steps with `policy` (see [`RolloutMode`]).
+    ///
+    /// Each copy runs on its worker thread for its whole share of the batch, with no
+    /// barrier between steps, acting with a host copy of the policy and its own sampling
+    /// stream (seeded from `rng`, one draw per copy per batch): the batch does not depend
+    /// on the number of threads. Episodes mode gives each copy a quota of
+    /// ceil(`samples` / copies) steps in whole episodes, so the batch has at least
+    /// `samples` steps and overshoots by less than one episode per copy.
     pub fn collect<B: Backend>(
         &mut self,
         venv: &mut VecEnv,
@@ -139,53 +169,62 @@ impl Sampler {
         samples: usize,
     ) -> Result<Batch, EnvError> {
         let (n, obs_dim, act_dim) = (venv.num_envs(), venv.spec().obs_dim, venv.spec().act_dim);
-        let policy = policy.acting();
+        let acting = policy.acting();
+        let quota = samples.div_ceil(n);
+        let mode = self.mode;
+        let states: Vec<(Episode, u64)> = std::mem::take(&mut self.episodes)
+            .into_iter()
+            .map(|ep| (ep, rng.random()))
+            .collect();
+        let result = venv.map_copies(states, |env, obs, (mut ep, seed)| {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let mut batch = Batch {
+                obs_dim,
+                act_dim,
+                ..Default::default()
+            };
+            let mut taken = 0;
+            loop {
+                let action = acting.sample(obs, &mut rng);
+                ep.obs.extend_from_slice(obs);
+                ep.actions.extend_from_slice(&action);
+                let step = env.step(&action, obs)?;
+                taken += 1;
+                ep.rewards.push(step.reward);
+                ep.dense.push(step.info.dense_reward);
+                ep.total += step.reward;
+                ep.total_dense += step.info.dense_reward;
+                if step.done() {
+                    batch.push_segment(&mut ep, step.terminated, obs, true);
+                    ep = Episode::default();
+                    env.reset(None, obs);
+                }
+                let stop = match mode {
+                    RolloutMode::Episodes => step.done() && taken >= quota,
+                    RolloutMode::Steps => taken == quota,
+                };
+                if stop {
+                    // Steps mode: cut the running episode here; it goes on next batch.
+                    batch.push_segment(&mut ep, false, obs, false);
+                    return Ok((batch, ep));
+                }
+            }
+        });
+        let per_copy = match result {
+            Ok(per_copy) => per_copy,
+            Err(e) => {
+                self.episodes = vec![Episode::default(); n];
+                return Err(e);
+            }
+        };
         let mut batch = Batch {
             obs_dim,
             act_dim,
             ..Default::default()
         };
-        let steps_per_copy = samples.div_ceil(n);
-        let mut active = vec![true; n];
-        let mut steps_taken = 0;
-        let mut round = 0;
-        while active.iter().any(|a| *a) {
-            let obs = venv.obs().to_vec();
-            let actions = policy.sample(&obs, rng);
-            let out = venv.step_active(&actions, &active)?;
-            steps_taken += active.iter().filter(|a| **a).count();
-            round += 1;
-            for i in 0..n {
-                if !active[i] {
-                    continue;
-                }
-                let (step, ep) = (out.steps[i], &mut self.episodes[i]);
-                ep.obs.extend_from_slice(&obs[i * obs_dim..][..obs_dim]);
-                ep.actions
-                    .extend_from_slice(&actions[i * act_dim..][..act_dim]);
-                ep.rewards.push(step.reward);
-                ep.dense.push(step.info.dense_reward);
-                ep.total += step.reward;
-                ep.total_dense += step.info.dense_reward;
-                let final_obs = if step.done() {
-                    &out.final_obs[i * obs_dim..][..obs_dim]
-                } else {
-                    &out.obs[i * obs_dim..][..obs_dim]
-                };
-                if step.done() {
-                    batch.push_segment(ep, step.terminated, final_obs, true);
-                    *ep = Episode::default();
-                }
-                let stop = match self.mode {
-                    RolloutMode::Episodes => step.done() && steps_taken >= samples,
-                    RolloutMode::Steps => round == steps_per_copy,
-                };
-                if stop {
-                    // Steps mode: cut the running episode here; it goes on next batch.
-                    batch.push_segment(ep, false, final_obs, false);
-                    active[i] = false;
-                }
-            }
+        for (part, ep) in per_copy {
+            batch.append(part);
+            self.episodes.push(ep);
         }
         Ok(batch)
     }

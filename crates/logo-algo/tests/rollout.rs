@@ -53,3 +53,29 @@ fn episodes_mode_collects_whole_episodes_past_the_sample_count() {
     assert!((total - logged).abs() < 1e-9 * total.abs().max(1.0));
     assert!(venv.reset_points().is_ok(), "every copy freshly reset");
 }
+
+#[test]
+fn batches_do_not_depend_on_the_number_of_threads() {
+    let factory = EnvFactory::new("SparseHopper-v4", &EnvOptions::default()).unwrap();
+    let policy = PolicyConfig::new(11, 3).init::<Cpu>(&Default::default());
+    let run = |threads: usize, mode: RolloutMode| {
+        let mut venv = VecEnv::new(&factory, 3, threads, 9).unwrap();
+        let mut sampler = Sampler::new(mode, 3);
+        let mut rng = ChaCha8Rng::seed_from_u64(2);
+        (0..2)
+            .map(|_| {
+                let b = sampler.collect(&mut venv, &policy, &mut rng, 200).unwrap();
+                (
+                    b.obs,
+                    b.actions,
+                    b.rewards,
+                    b.episode_returns,
+                    b.truncations,
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    for mode in [RolloutMode::Episodes, RolloutMode::Steps] {
+        assert_eq!(run(1, mode), run(2, mode), "{mode:?}");
+    }
+}

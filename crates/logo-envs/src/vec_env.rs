@@ -139,6 +139,38 @@ impl VecEnv {
         &self.out.obs
     }
 
+    /// Runs `f` once per copy on the worker threads, each with its own state from
+    /// `states` (one per copy), the copy's env and its current observation (which `f`
+    /// must leave current, resetting the env when an episode ends). The results come back
+    /// in copy order. For loops that drive a copy for many steps without a barrier after
+    /// each one (the rollout), where [`Self::step`] synchronises every step.
+    pub fn map_copies<S: Send, T: Send>(
+        &mut self,
+        states: Vec<S>,
+        f: impl Fn(&mut dyn Env, &mut [f64], S) -> Result<T, EnvError> + Sync,
+    ) -> Result<Vec<T>, EnvError> {
+        assert_eq!(states.len(), self.envs.len(), "one state per copy");
+        let obs_dim = self.spec.obs_dim;
+        let (envs, obs) = (&mut self.envs, &mut self.out.obs);
+        let run =
+            |((env, o), state): ((&mut Box<dyn Env>, &mut [f64]), S)| f(env.as_mut(), o, state);
+        match &self.pool {
+            Some(pool) => pool.install(|| {
+                envs.par_iter_mut()
+                    .zip(obs.par_chunks_mut(obs_dim))
+                    .zip(states)
+                    .map(run)
+                    .collect()
+            }),
+            None => envs
+                .iter_mut()
+                .zip(obs.chunks_mut(obs_dim))
+                .zip(states)
+                .map(run)
+                .collect(),
+        }
+    }
+
     /// Steps every copy with its slice of `actions` (`num_envs * act_dim`, env-major).
     pub fn step(&mut self, actions: &[f64]) -> Result<&VecStep, EnvError> {
         let all = vec![true; self.envs.len()];
