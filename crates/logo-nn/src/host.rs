@@ -29,6 +29,9 @@ pub fn is_host_backend<B: Backend>() -> bool {
 /// run at full speed.
 const BLOCK_ROWS: usize = 1024;
 
+/// Up to this many rows, the forward pass multiplies directly instead of calling dgemm.
+const SMALL_ROWS: usize = 4;
+
 /// An MLP's layer sizes and flat parameters, laid out as [`crate::flat::params_to_vec`]
 /// lays out an [`Mlp`]: for each layer, weight `[in, out]` row-major, then bias `[out]`.
 #[derive(Debug, Clone, PartialEq)]
@@ -171,15 +174,28 @@ impl HostMlp {
             let (w, b) = self.layer(&self.params, i);
             let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
             let mut z = b.repeat(rows);
-            gemm(
-                (rows, fan_in, fan_out),
-                &acts[i],
-                (fan_in, 1),
-                w,
-                (fan_out, 1),
-                &mut z,
-                true,
-            );
+            if rows <= SMALL_ROWS {
+                // Acting (a row or two per call): dgemm's packing of W would cost more
+                // than the product itself.
+                for (x, z) in acts[i]
+                    .chunks_exact(fan_in)
+                    .zip(z.chunks_exact_mut(fan_out))
+                {
+                    for (xk, w_row) in x.iter().zip(w.chunks_exact(fan_out)) {
+                        z.iter_mut().zip(w_row).for_each(|(zj, wj)| *zj += xk * wj);
+                    }
+                }
+            } else {
+                gemm(
+                    (rows, fan_in, fan_out),
+                    &acts[i],
+                    (fan_in, 1),
+                    w,
+                    (fan_out, 1),
+                    &mut z,
+                    true,
+                );
+            }
             if i + 1 < self.layers() {
                 tanh_f64_in_place(&mut z);
             }

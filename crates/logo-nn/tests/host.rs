@@ -87,3 +87,15 @@ fn a_wrong_upstream_shape_is_caught() {
     let trace = host.trace(&x);
     host.vjp(&trace, &[0.0; 3]);
 }
+
+#[test]
+fn small_batches_take_the_direct_product_and_agree_with_burn() {
+    let (mlp, host, x, _) = setup();
+    let device = NdArrayDevice::Cpu;
+    for rows in [1, 2, 4, 5] {
+        let x = &x[..rows * 5];
+        let want = to_f64(mlp.forward(from_f64::<Cpu, 2>(x, [rows, 5], &device)));
+        let err = max_relative_error(&host.forward(x), &want);
+        assert!(err < 1e-13, "{rows} rows: {err:e}");
+    }
+}
