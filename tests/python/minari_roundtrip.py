@@ -4,6 +4,8 @@
                 values to DIR/expected.json
   read DIR    : load DIR/data with minari and compare it with DIR/expected.json (written
                 by the Rust side); exits non-zero on any difference
+  d4rl FILE   : write a small D4RL-style flat HDF5 file with h5py, as D4RL's own files
+                are (float32 arrays, bool terminals/timeouts, next_observations)
 """
 import json
 import os
@@ -92,5 +94,24 @@ def read(root):
     print(f"minari read {len(got)} episodes written by logo-rl: identical")
 
 
+def d4rl(path):
+    import h5py
+
+    rng = np.random.default_rng(3)
+    steps, obs_dim, act_dim = 12, 3, 2
+    obs = rng.normal(size=(steps, obs_dim)).astype(np.float32)
+    terminals = np.zeros(steps, dtype=bool)
+    timeouts = np.zeros(steps, dtype=bool)
+    terminals[3] = True  # episode 0: rows 0-3, terminated
+    timeouts[8] = True  # episode 1: rows 4-8, timed out; episode 2: rows 9-11, cut
+    with h5py.File(path, "w") as f:
+        f.create_dataset("observations", data=obs, compression="gzip")
+        f.create_dataset("next_observations", data=obs + 1.0)
+        f.create_dataset("actions", data=rng.uniform(-1, 1, (steps, act_dim)).astype(np.float32))
+        f.create_dataset("rewards", data=np.arange(steps, dtype=np.float32))
+        f.create_dataset("terminals", data=terminals)
+        f.create_dataset("timeouts", data=timeouts)
+
+
 if __name__ == "__main__":
-    {"write": write, "read": read}[sys.argv[1]](sys.argv[2])
+    {"write": write, "read": read, "d4rl": d4rl}[sys.argv[1]](sys.argv[2])

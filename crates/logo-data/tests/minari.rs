@@ -277,3 +277,61 @@ fn corrupted_and_truncated_files_are_errors_not_panics() {
     let err = read_minari(&dir).unwrap_err().to_string();
     assert!(err.contains("metadata.json"), "{err}");
 }
+
+#[test]
+fn a_d4rl_file_written_by_h5py_imports_with_its_episodes() {
+    let Some(python) = python() else { return };
+    let dir = scratch("d4rl");
+    let file = dir.join("d4rl.hdf5");
+    let out = Command::new(&python)
+        .arg(repo().join("tests/python/minari_roundtrip.py"))
+        .args(["d4rl", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let dataset = logo_data::import::import_d4rl(&file).unwrap();
+    assert_eq!((dataset.obs_dim, dataset.act_dim), (3, 2));
+    let lengths: Vec<usize> = dataset.episodes.iter().map(Episode::steps).collect();
+    assert_eq!(lengths, vec![4, 5, 3]);
+    let ends: Vec<(bool, bool)> = dataset
+        .episodes
+        .iter()
+        .map(|e| {
+            (
+                *e.terminations.last().unwrap(),
+                *e.truncations.last().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(ends, vec![(true, false), (false, true), (false, true)]);
+    // Rewards 0..12 in order; each final observation is next_observations' row
+    // (observations + 1).
+    assert_eq!(dataset.episodes[1].rewards, vec![4.0, 5.0, 6.0, 7.0, 8.0]);
+    let ep = &dataset.episodes[0];
+    for j in 0..3 {
+        let last_obs = ep.observations[3 * 3 + j];
+        assert!((ep.observations[4 * 3 + j] - (last_obs + 1.0)).abs() < 1e-6);
+    }
+    // And it converts: write as Minari, read back.
+    let minari_dir = dir.join("converted");
+    write_minari(&dataset, &minari_dir).unwrap();
+    assert_eq!(read_minari(&minari_dir).unwrap().episodes, dataset.episodes);
+}
+
+#[test]
+fn demonstrations_of_the_wrong_dims_are_refused_with_the_file_named() {
+    let dir = repo().join("data/logo/hopper");
+    let err = logo_data::Demonstrations::load(&dir, 17, 6)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("data/logo/hopper") && err.contains("(11, 3)") && err.contains("(17, 6)"),
+        "{err}"
+    );
+    let ok = logo_data::Demonstrations::load(&dir, 11, 3).unwrap();
+    assert_eq!(ok.len(), 3869);
+}
