@@ -51,6 +51,15 @@ alpha = 0.9
 warmup = 0
 "#;
 
+/// A scratch folder with the tiny LOGO config and its demonstrations; the config's path.
+fn tiny_run(name: &str) -> (PathBuf, PathBuf) {
+    let dir = scratch(name);
+    write_npy(&dir.join("demos.npy"), 40, 12);
+    let config = dir.join("tiny.toml");
+    std::fs::write(&config, TINY).unwrap();
+    (dir, config)
+}
+
 fn stderr_line(out: &Output) -> String {
     assert!(
         !out.status.success(),
@@ -100,10 +109,7 @@ fn config_errors_name_the_file_and_the_key() {
 
 #[test]
 fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
-    let dir = scratch("train");
-    write_npy(&dir.join("demos.npy"), 40, 12);
-    let config = dir.join("tiny.toml");
-    std::fs::write(&config, TINY).unwrap();
+    let (dir, config) = tiny_run("train");
     let run = |name: &str| {
         let out_dir = dir.join(name);
         let out = logo(&[
@@ -199,10 +205,7 @@ fn unknown_env_ids_are_one_line_errors() {
 
 #[test]
 fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
-    let dir = scratch("behaviour");
-    write_npy(&dir.join("demos.npy"), 40, 12);
-    let config = dir.join("tiny.toml");
-    std::fs::write(&config, TINY).unwrap();
+    let (dir, config) = tiny_run("behaviour");
     // Any evaluation reaches -1e9: the run stops after its first iteration.
     let out_dir = dir.join("run");
     let out = logo(&[
@@ -270,10 +273,7 @@ fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
 
 #[test]
 fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
-    let dir = scratch("resume");
-    write_npy(&dir.join("demos.npy"), 40, 12);
-    let config = dir.join("tiny.toml");
-    std::fs::write(&config, TINY).unwrap();
+    let (dir, config) = tiny_run("resume");
     let run_dir = dir.join("run");
     let run = dir.join("run").to_str().unwrap().to_string();
     let out = logo(&["train", "--config", config.to_str().unwrap(), "--out", &run]);

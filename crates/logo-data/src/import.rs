@@ -11,6 +11,7 @@ use std::path::Path;
 use serde_json::{Map, Value};
 
 use crate::dataset::{Dataset, Episode};
+use crate::minari::{read_flags, read_table};
 use crate::{DataError, read_npy};
 
 /// Where an env's observation starts an episode: the initial pose and, per dimension, how
@@ -192,30 +193,10 @@ pub fn import_d4rl(path: &Path) -> Result<Dataset, DataError> {
     };
     let file = hdf5_pure::File::from_bytes(bytes).map_err(hdf5_error)?;
     let bad = |field: &str, reason: String| DataError::field(path, None, field, &reason);
-    let matrix = |field: &str| -> Result<(Vec<f64>, usize), DataError> {
-        let ds = file
-            .dataset(field)
-            .map_err(|e| bad(field, format!("missing or unreadable: {e}")))?;
-        let shape = ds.shape().map_err(|e| bad(field, e.to_string()))?;
-        let values = ds.read_f64().map_err(|e| bad(field, e.to_string()))?;
-        let width = match shape.as_slice() {
-            [_] => 1,
-            [_, w] => *w as usize,
-            other => return Err(bad(field, format!("shape {other:?}, expected 1 or 2 dims"))),
-        };
-        Ok((values, width))
+    let matrix = |field: &str| {
+        read_table(file.dataset(field), field, &bad).map(|(values, _, cols)| (values, cols))
     };
-    let flags = |field: &str| -> Result<Vec<bool>, DataError> {
-        let ds = file
-            .dataset(field)
-            .map_err(|e| bad(field, format!("missing or unreadable: {e}")))?;
-        Ok(ds
-            .read_u8()
-            .map_err(|e| bad(field, e.to_string()))?
-            .into_iter()
-            .map(|b| b != 0)
-            .collect())
-    };
+    let flags = |field: &str| read_flags(file.dataset(field), field, &bad);
     let (obs, obs_dim) = matrix("observations")?;
     let (actions, act_dim) = matrix("actions")?;
     let (rewards, _) = matrix("rewards")?;

@@ -138,6 +138,41 @@ pub fn write_minari(dataset: &Dataset, dir: &Path) -> Result<(), DataError> {
     Ok(())
 }
 
+/// A 1- or 2-D numeric HDF5 dataset as `f64` values, with its rows and columns. `bad`
+/// makes the error for a field.
+pub(crate) fn read_table(
+    dataset: Result<hdf5_pure::Dataset, hdf5_pure::Error>,
+    field: &str,
+    bad: &dyn Fn(&str, String) -> DataError,
+) -> Result<(Vec<f64>, usize, usize), DataError> {
+    let ds = dataset.map_err(|e| bad(field, format!("missing or unreadable: {e}")))?;
+    let shape = ds.shape().map_err(|e| bad(field, e.to_string()))?;
+    let values = ds.read_f64().map_err(|e| bad(field, e.to_string()))?;
+    let (rows, cols) = match shape.as_slice() {
+        [rows] => (*rows as usize, 1),
+        [rows, cols] => (*rows as usize, *cols as usize),
+        other => return Err(bad(field, format!("shape {other:?}, expected 1 or 2 dims"))),
+    };
+    if values.len() != rows * cols {
+        return Err(bad(
+            field,
+            format!("{} values for shape {shape:?}", values.len()),
+        ));
+    }
+    Ok((values, rows, cols))
+}
+
+/// A boolean (or 0/1 integer) HDF5 dataset.
+pub(crate) fn read_flags(
+    dataset: Result<hdf5_pure::Dataset, hdf5_pure::Error>,
+    field: &str,
+    bad: &dyn Fn(&str, String) -> DataError,
+) -> Result<Vec<bool>, DataError> {
+    let ds = dataset.map_err(|e| bad(field, format!("missing or unreadable: {e}")))?;
+    let raw = ds.read_u8().map_err(|e| bad(field, e.to_string()))?;
+    Ok(raw.into_iter().map(|b| b != 0).collect())
+}
+
 /// Reads a Minari dataset folder (as written by `minari` 0.5.4 or by [`write_minari`])
 /// and validates it.
 pub fn read_minari(dir: &Path) -> Result<Dataset, DataError> {
@@ -192,33 +227,8 @@ pub fn read_minari(dir: &Path) -> Result<Dataset, DataError> {
         let group = file
             .group(name)
             .map_err(|e| bad("(group)", e.to_string()))?;
-        let dataset = |field: &str| {
-            group
-                .dataset(field)
-                .map_err(|e| bad(field, format!("missing or unreadable: {e}")))
-        };
-        let matrix = |field: &str| -> Result<(Vec<f64>, usize, usize), DataError> {
-            let ds = dataset(field)?;
-            let shape = ds.shape().map_err(|e| bad(field, e.to_string()))?;
-            let values = ds.read_f64().map_err(|e| bad(field, e.to_string()))?;
-            let (rows, cols) = match shape.as_slice() {
-                [rows] => (*rows as usize, 1),
-                [rows, cols] => (*rows as usize, *cols as usize),
-                other => return Err(bad(field, format!("shape {other:?}, expected 1 or 2 dims"))),
-            };
-            if values.len() != rows * cols {
-                return Err(bad(
-                    field,
-                    format!("{} values for shape {shape:?}", values.len()),
-                ));
-            }
-            Ok((values, rows, cols))
-        };
-        let flags = |field: &str| -> Result<Vec<bool>, DataError> {
-            let ds = dataset(field)?;
-            let raw = ds.read_u8().map_err(|e| bad(field, e.to_string()))?;
-            Ok(raw.into_iter().map(|b| b != 0).collect())
-        };
+        let matrix = |field: &str| read_table(group.dataset(field), field, &bad);
+        let flags = |field: &str| read_flags(group.dataset(field), field, &bad);
         let (observations, _, o) = matrix("observations")?;
         let (actions, _, a) = matrix("actions")?;
         let (rewards, _, _) = matrix("rewards")?;

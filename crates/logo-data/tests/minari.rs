@@ -40,6 +40,22 @@ fn python() -> Option<PathBuf> {
     None
 }
 
+/// Runs `tests/python/minari_roundtrip.py` with `args`; its stdout.
+fn script(python: &Path, args: &[&str]) -> String {
+    let out = Command::new(python)
+        .arg(repo().join("tests/python/minari_roundtrip.py"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
 fn sample_dataset(seed: u64) -> Dataset {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (obs_dim, act_dim) = (4, 2);
@@ -104,17 +120,7 @@ fn write_then_read_gives_the_same_episodes() {
 fn a_dataset_written_by_python_minari_loads_here() {
     let Some(python) = python() else { return };
     let root = scratch("from-python");
-    let out = Command::new(&python)
-        .arg(repo().join("tests/python/minari_roundtrip.py"))
-        .args(["write", root.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let dir = PathBuf::from(String::from_utf8(out.stdout).unwrap().trim());
+    let dir = PathBuf::from(script(&python, &["write", root.to_str().unwrap()]).trim());
     let dataset = read_minari(&dir).unwrap();
     let expected: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("expected.json")).unwrap()).unwrap();
@@ -133,17 +139,7 @@ fn a_dataset_written_here_loads_in_python_minari() {
         episodes_json(&dataset).to_string(),
     )
     .unwrap();
-    let out = Command::new(&python)
-        .arg(repo().join("tests/python/minari_roundtrip.py"))
-        .args(["read", dir.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}\n{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    script(&python, &["read", dir.to_str().unwrap()]);
 }
 
 /// The episode lengths listed in the LOGO demonstrations' README.
@@ -283,16 +279,7 @@ fn a_d4rl_file_written_by_h5py_imports_with_its_episodes() {
     let Some(python) = python() else { return };
     let dir = scratch("d4rl");
     let file = dir.join("d4rl.hdf5");
-    let out = Command::new(&python)
-        .arg(repo().join("tests/python/minari_roundtrip.py"))
-        .args(["d4rl", file.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    script(&python, &["d4rl", file.to_str().unwrap()]);
     let dataset = logo_data::import::import_d4rl(&file).unwrap();
     assert_eq!((dataset.obs_dim, dataset.act_dim), (3, 2));
     let lengths: Vec<usize> = dataset.episodes.iter().map(Episode::steps).collect();
