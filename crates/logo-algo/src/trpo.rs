@@ -24,6 +24,11 @@ pub struct PolicyStepConfig {
     pub backtracks: usize,
     #[serde(default = "default_accept_ratio")]
     pub accept_ratio: f64,
+    /// Also require the measured KL to be at most `kl_limit`·δ before accepting a step
+    /// (backtracking further otherwise). Off by default: the reference's line search checks
+    /// only the improvement, and its guidance steps often overshoot δ_k.
+    #[serde(default)]
+    pub kl_limit: Option<f64>,
 }
 
 fn default_damping() -> f64 {
@@ -46,6 +51,7 @@ impl Default for PolicyStepConfig {
             cg_iters: 10,
             backtracks: 10,
             accept_ratio: 0.1,
+            kl_limit: None,
         }
     }
 }
@@ -183,8 +189,13 @@ fn natural_gradient_step(
         let actual = objective.surrogate(&candidate) - before;
         let expected = expected_full * fraction;
         if actual / expected > config.accept_ratio {
+            let kl = objective.kl_from_old(&candidate);
+            if config.kl_limit.is_some_and(|limit| kl > limit * max_kl) {
+                fraction *= 0.5;
+                continue;
+            }
             let stats = StepStats {
-                kl: objective.kl_from_old(&candidate),
+                kl,
                 expected_improvement: expected,
                 actual_improvement: actual,
                 step_fraction: fraction,
@@ -406,6 +417,54 @@ mod tests {
 
     /// The host objective (the default CPU path) against the burn one, term by term, on a
     /// batch of 2100 rows (three host blocks) and a policy away from its initialisation.
+    /// With `kl_limit`, the line search backtracks past steps whose KL exceeds the limit.
+    #[test]
+    fn the_kl_limit_keeps_accepted_steps_within_it() {
+        let device = Default::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(8);
+        let (rows, obs_dim, act_dim) = (500, 3, 2);
+        let policy = PolicyConfig {
+            obs_dim,
+            act_dim,
+            hidden: vec![8, 8],
+            log_std_init: -0.5,
+        }
+        .init::<Cpu>(&device);
+        let mut random =
+            |n: usize, s: f64| -> Vec<f64> { (0..n).map(|_| rng.random_range(-s..s)).collect() };
+        let theta = random(params_to_vec(&policy).len(), 0.5);
+        let policy = vec_to_params(policy, &theta);
+        let obs = random(rows * obs_dim, 2.0);
+        let actions = random(rows * act_dim, 1.5);
+        let data = StepData::<Cpu> {
+            obs: from_f64(&obs, [rows, obs_dim], &device),
+            actions: from_f64(&actions, [rows, act_dim], &device),
+            logp_old: policy.log_prob(
+                from_f64(&obs, [rows, obs_dim], &device),
+                from_f64(&actions, [rows, act_dim], &device),
+            ),
+        };
+        let advantages = random(rows, 1.0);
+        let objective = HostObjective::new(&policy, &data, &advantages, 0.01);
+        let max_kl = 0.05;
+        let free = PolicyStepConfig::default();
+        let (_, unlimited) = natural_gradient_step(&objective, &theta, max_kl, &free).unwrap();
+        let limited_config = PolicyStepConfig {
+            kl_limit: Some(0.25),
+            ..free
+        };
+        let (_, limited) =
+            natural_gradient_step(&objective, &theta, max_kl, &limited_config).unwrap();
+        assert!(
+            unlimited.kl > 0.25 * max_kl,
+            "the test needs a step beyond the limit: {unlimited:?}"
+        );
+        assert!(
+            limited.kl <= 0.25 * max_kl && limited.step_fraction < unlimited.step_fraction,
+            "{limited:?}"
+        );
+    }
+
     #[test]
     fn host_and_burn_objectives_agree() {
         let device = Default::default();
