@@ -7,7 +7,7 @@ use clap::{Args, Subcommand, ValueEnum};
 use logo_data::import::{import_d4rl, import_logo_npy};
 use logo_data::minari::box_space;
 use logo_data::{Dataset, Episode, is_minari_dir, read_minari, write_minari};
-use logo_envs::{Env, EnvFactory, EnvOptions};
+use logo_envs::{Env, EnvFactory, EnvOptions, EnvSpec};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
@@ -87,10 +87,7 @@ pub fn run(cmd: &DataCommand) -> Result<()> {
 }
 
 /// Minari metadata for an env: its id and its spaces.
-fn env_metadata(dataset: &mut Dataset, env_id: &str) -> Result<()> {
-    let env = EnvFactory::new(env_id, &EnvOptions::default())
-        .with_context(|| format!("--env {env_id}"))?;
-    let spec = env.spec();
+fn env_metadata(dataset: &mut Dataset, env_id: &str, spec: &EnvSpec) {
     let n = spec.obs_dim;
     let meta = &mut dataset.metadata;
     meta.insert("logo_env_id".into(), env_id.into());
@@ -102,31 +99,33 @@ fn env_metadata(dataset: &mut Dataset, env_id: &str) -> Result<()> {
         "action_space".into(),
         box_space(&spec.action_low, &spec.action_high).into(),
     );
-    Ok(())
 }
 
 fn import(args: &ImportArgs) -> Result<()> {
-    let mut dataset = match args.from {
-        Source::LogoNpy => {
-            let env_id = args
-                .env
-                .as_deref()
-                .context("--env is needed to import a LOGO .npy (dims and reset pose)")?;
-            let factory = EnvFactory::new(env_id, &EnvOptions::default())
-                .with_context(|| format!("--env {env_id}"))?;
-            let spec = factory.spec();
-            import_logo_npy(
-                &args.input,
-                env_id,
-                spec.obs_dim,
-                spec.act_dim,
-                spec.max_episode_steps,
-            )?
+    let env = match &args.env {
+        Some(id) => {
+            let factory = EnvFactory::new(id, &EnvOptions::default())
+                .with_context(|| format!("--env {id}"))?;
+            Some((id.as_str(), factory.spec().clone()))
         }
-        Source::D4rl => import_d4rl(&args.input)?,
+        None => None,
     };
-    if let Some(env_id) = &args.env {
-        env_metadata(&mut dataset, env_id)?;
+    let mut dataset = match (args.from, &env) {
+        (Source::LogoNpy, None) => {
+            anyhow::bail!("--env is needed to import a LOGO .npy (dims and reset pose)")
+        }
+        (Source::LogoNpy, Some((id, spec))) => import_logo_npy(
+            &args.input,
+            id,
+            spec.obs_dim,
+            spec.act_dim,
+            spec.max_episode_steps,
+        )?,
+        (Source::D4rl, _) => import_d4rl(&args.input)?,
+    };
+    if let Some((id, spec)) = &env {
+        dataset.check_dims(&args.input, spec.obs_dim, spec.act_dim)?;
+        env_metadata(&mut dataset, id, spec);
     }
     if let Some(id) = &args.dataset_id {
         dataset
@@ -278,7 +277,7 @@ fn record(args: &RecordArgs) -> Result<()> {
         episodes,
         metadata: Default::default(),
     };
-    env_metadata(&mut dataset, &args.env)?;
+    env_metadata(&mut dataset, &args.env, &spec);
     let m = &mut dataset.metadata;
     m.insert(
         "dataset_id".into(),

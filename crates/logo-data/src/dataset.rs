@@ -39,6 +39,24 @@ pub struct Dataset {
 }
 
 impl Dataset {
+    /// A dataset from its parts, validated; `source` names it in errors.
+    pub fn checked(
+        obs_dim: usize,
+        act_dim: usize,
+        episodes: Vec<Episode>,
+        metadata: Map<String, Value>,
+        source: &Path,
+    ) -> Result<Self, DataError> {
+        let dataset = Self {
+            obs_dim,
+            act_dim,
+            episodes,
+            metadata,
+        };
+        dataset.validate(source)?;
+        Ok(dataset)
+    }
+
     pub fn total_steps(&self) -> usize {
         self.episodes.iter().map(Episode::steps).sum()
     }

@@ -12,7 +12,7 @@ use serde_json::{Map, Value};
 
 use crate::dataset::{Dataset, Episode};
 use crate::minari::{read_flags, read_table};
-use crate::{DataError, read_npy};
+use crate::{DataError, Demonstrations};
 
 /// Where an env's observation starts an episode: the initial pose and, per dimension, how
 /// far Gymnasium's reset noise can move it. Dimensions with `f64::INFINITY` are not
@@ -118,25 +118,12 @@ pub fn import_logo_npy(
     act_dim: usize,
     max_episode_steps: usize,
 ) -> Result<Dataset, DataError> {
-    let array = read_npy(path)?;
-    let cols = array.shape.get(1).copied().unwrap_or(0);
-    if array.shape.len() != 2 || cols != obs_dim + act_dim {
-        return Err(DataError::Columns {
-            path: path.to_path_buf(),
-            found: cols,
-            obs_dim,
-            act_dim,
-        });
-    }
+    // Width, emptiness and finiteness, checked as for any demonstrations file.
+    let Demonstrations { obs, actions, .. } = Demonstrations::from_npy(path, obs_dim, act_dim)?;
     let pose = reset_pose(env).ok_or_else(|| {
         DataError::field(path, None, "env", &format!("no reset pose known for {env}"))
     })?;
-    let rows = array.shape[0];
-    let (mut obs, mut actions) = (Vec::new(), Vec::new());
-    for row in array.data.chunks_exact(cols) {
-        obs.extend_from_slice(&row[..obs_dim]);
-        actions.extend_from_slice(&row[obs_dim..]);
-    }
+    let rows = obs.len() / obs_dim;
     let mut starts = split_at_resets(&obs, obs_dim, &pose);
     starts.push(rows);
     let episodes = starts
@@ -171,14 +158,7 @@ pub fn import_logo_npy(
              no final observations (the last observation is repeated).",
         ),
     );
-    let dataset = Dataset {
-        obs_dim,
-        act_dim,
-        episodes,
-        metadata,
-    };
-    dataset.validate(path)?;
-    Ok(dataset)
+    Dataset::checked(obs_dim, act_dim, episodes, metadata, path)
 }
 
 /// Imports a D4RL-style flat HDF5 file.
@@ -251,12 +231,5 @@ pub fn import_d4rl(path: &Path) -> Result<Dataset, DataError> {
     }
     let mut metadata = Map::new();
     metadata.insert("logo_source".into(), path.display().to_string().into());
-    let dataset = Dataset {
-        obs_dim,
-        act_dim,
-        episodes,
-        metadata,
-    };
-    dataset.validate(path)?;
-    Ok(dataset)
+    Dataset::checked(obs_dim, act_dim, episodes, metadata, path)
 }

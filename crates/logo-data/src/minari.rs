@@ -248,12 +248,5 @@ pub fn read_minari(dir: &Path) -> Result<Dataset, DataError> {
             truncations: flags("truncations")?,
         });
     }
-    let dataset = Dataset {
-        obs_dim,
-        act_dim,
-        episodes,
-        metadata,
-    };
-    dataset.validate(&h5)?;
-    Ok(dataset)
+    Dataset::checked(obs_dim, act_dim, episodes, metadata, &h5)
 }

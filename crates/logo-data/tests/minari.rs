@@ -322,3 +322,22 @@ fn demonstrations_of_the_wrong_dims_are_refused_with_the_file_named() {
     let ok = logo_data::Demonstrations::load(&dir, 11, 3).unwrap();
     assert_eq!(ok.len(), 3869);
 }
+
+#[test]
+fn an_empty_or_non_finite_logo_npy_is_an_error_not_a_panic() {
+    let dir = scratch("bad-npy");
+    let empty = dir.join("empty.npy");
+    logo_data::write_npy(&empty, &[0, 14], &[]).unwrap();
+    let err = import_logo_npy(&empty, "Hopper-v4", 11, 3, 1000)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("empty.npy"), "{err}");
+    let nan = dir.join("nan.npy");
+    let mut values = vec![0.0; 2 * 14];
+    values[14 + 12] = f64::NAN;
+    logo_data::write_npy(&nan, &[2, 14], &values).unwrap();
+    let err = import_logo_npy(&nan, "Hopper-v4", 11, 3, 1000)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("row 1") && err.contains("action"), "{err}");
+}
