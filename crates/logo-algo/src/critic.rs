@@ -8,7 +8,7 @@
 
 use burn::tensor::Tensor;
 use burn::tensor::backend::Backend;
-use logo_nn::flat::{flatten_layers, from_f64, params_to_vec, to_f64, vec_to_params};
+use logo_nn::flat::{flatten_layers, from_f64, to_f64, vec_to_params};
 use logo_nn::host::is_host_backend;
 use logo_nn::{HostMlp, HostTrace, ValueNet, ValueNetConfig};
 use serde::{Deserialize, Serialize};
@@ -140,8 +140,8 @@ impl<B: Backend> Critic<B> {
         let mut losses = Vec::new();
         for net in &mut self.nets {
             let template = net.clone();
-            let dims = HostMlp::from_mlp(&template.net).dims;
-            let x0 = params_to_vec(&template);
+            // A value net's parameters are its MLP's, in the same order.
+            let HostMlp { dims, params: x0 } = HostMlp::from_mlp(&template.net);
             let result = match &host_obs {
                 Some(x) => {
                     let mut objective = HostValueObjective::new(dims, x, returns, l2);

@@ -93,8 +93,17 @@ pub struct DiscriminatorTrainer<B: AutodiffBackend> {
     lr: f64,
     demo_obs: Tensor<B, 2>,
     demo_actions: Tensor<B, 2>,
-    /// The demonstrations as host rows, for the host path (made on first use).
-    demo_rows: Option<(Vec<f64>, Vec<f64>)>,
+    /// The demonstrations as the discriminator's host input rows (host path only).
+    demo_inputs: Option<Vec<f64>>,
+}
+
+/// The discriminator's input rows `[obs[..observe] ‖ action]` of row-major pairs.
+fn censored_inputs(obs: &[f64], actions: &[f64], act_dim: usize, observe: usize) -> Vec<f64> {
+    let obs_dim = obs.len() / (actions.len() / act_dim).max(1);
+    obs.chunks_exact(obs_dim)
+        .zip(actions.chunks_exact(act_dim))
+        .flat_map(|(o, a)| o[..observe].iter().chain(a).copied())
+        .collect()
 }
 
 /// log(1 + eˣ) without overflow.
@@ -127,7 +136,9 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
             lr,
             demo_obs: from_f64(&demos.obs, [rows, demos.obs_dim], device),
             demo_actions: from_f64(&demos.actions, [rows, demos.act_dim], device),
-            demo_rows: None,
+            demo_inputs: is_host_backend::<B::InnerBackend>().then(|| {
+                censored_inputs(&demos.obs, &demos.actions, demos.act_dim, config.observe)
+            }),
         }
     }
 
@@ -149,7 +160,6 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
         to_f64(self.disc.valid().guidance_reward(obs, actions))
     }
 
-    /// One Adam step; returns the loss before it.
     /// One Adam step on the BCE loss (policy pairs labelled 1, demonstration pairs 0);
     /// returns the loss before the step. On the default CPU backend the loss and its
     /// gradient run on host buffers (`logo_nn::host`), elsewhere through burn's autodiff.
@@ -173,32 +183,24 @@ impl<B: AutodiffBackend> DiscriminatorTrainer<B> {
         value
     }
 
-    /// The discriminator's input rows `[obs[..observe] ‖ action]`.
     fn host_inputs(&self, obs: &[f64], actions: &[f64]) -> Vec<f64> {
-        let (observe, act_dim) = (self.disc.observe, self.demo_actions.dims()[1]);
-        let obs_dim = obs.len() / (actions.len() / act_dim).max(1);
-        obs.chunks_exact(obs_dim)
-            .zip(actions.chunks_exact(act_dim))
-            .flat_map(|(o, a)| o[..observe].iter().chain(a).copied())
-            .collect()
+        censored_inputs(obs, actions, self.demo_actions.dims()[1], self.disc.observe)
     }
 
     /// As [`Self::update_burn`]: d/dl softplus(−l) = −σ(−l), d/dl softplus(l) = σ(l).
     fn update_host(&mut self, obs: &[f64], actions: &[f64]) -> f64 {
         let net = HostMlp::from_mlp(&self.disc.net);
-        let demo_rows = self.demo_rows.get_or_insert_with(|| {
-            let demo_obs = to_f64(self.demo_obs.clone());
-            let demo_actions = to_f64(self.demo_actions.clone());
-            (demo_obs, demo_actions)
-        });
-        let (demo_obs, demo_actions) = demo_rows.clone();
+        let demo_inputs = self
+            .demo_inputs
+            .as_deref()
+            .expect("made by new() on the host backend");
         let mut value = 0.0;
         let mut grad = vec![0.0; net.num_params()];
         for (inputs, label_policy) in [
-            (self.host_inputs(obs, actions), true),
-            (self.host_inputs(&demo_obs, &demo_actions), false),
+            (&self.host_inputs(obs, actions)[..], true),
+            (demo_inputs, false),
         ] {
-            let trace = net.trace(&inputs);
+            let trace = net.trace(inputs);
             let logits = trace.output();
             let n = logits.len() as f64;
             let sign = if label_policy { -1.0 } else { 1.0 };

@@ -7,7 +7,7 @@ use burn::tensor::Tensor;
 use burn::tensor::backend::Backend;
 use logo_nn::flat::{flatten_layers, from_f64, params_to_vec, to_f64, vec_to_params};
 use logo_nn::host::is_host_backend;
-use logo_nn::policy::gaussian_log_prob;
+use logo_nn::policy::{LOG_2PI, gaussian_log_prob};
 use logo_nn::{
     FisherVectorProduct, GaussianPolicy, HostMlp, HostTrace, conjugate_gradient, mean_kl,
 };
@@ -327,7 +327,6 @@ impl HostObjective {
 
 /// log N(a; μ, σ²) summed over the action dimensions, as `gaussian_log_prob`.
 fn host_log_prob(mean: &[f64], log_std: &[f64], action: &[f64]) -> f64 {
-    const LOG_2PI: f64 = 1.837_877_066_409_345_5;
     mean.iter()
         .zip(log_std)
         .zip(action)
@@ -415,36 +414,55 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
-    /// The host objective (the default CPU path) against the burn one, term by term, on a
-    /// batch of 2100 rows (three host blocks) and a policy away from its initialisation.
+    fn random(rng: &mut ChaCha8Rng, n: usize, scale: f64) -> Vec<f64> {
+        (0..n).map(|_| rng.random_range(-scale..scale)).collect()
+    }
+
+    /// A policy with random parameters θ (away from its initialisation) and random
+    /// observations and actions, drawn in that order.
+    fn random_policy_and_pairs(
+        rng: &mut ChaCha8Rng,
+        config: PolicyConfig,
+        rows: usize,
+    ) -> (
+        GaussianPolicy<Cpu>,
+        Vec<f64>,
+        Tensor<Cpu, 2>,
+        Tensor<Cpu, 2>,
+    ) {
+        let device = Default::default();
+        let (obs_dim, act_dim) = (config.obs_dim, config.act_dim);
+        let policy = config.init::<Cpu>(&device);
+        let theta = random(rng, params_to_vec(&policy).len(), 0.5);
+        let policy = vec_to_params(policy, &theta);
+        let obs = random(rng, rows * obs_dim, 2.0);
+        let actions = random(rng, rows * act_dim, 1.5);
+        (
+            policy,
+            theta,
+            from_f64(&obs, [rows, obs_dim], &device),
+            from_f64(&actions, [rows, act_dim], &device),
+        )
+    }
+
     /// With `kl_limit`, the line search backtracks past steps whose KL exceeds the limit.
     #[test]
     fn the_kl_limit_keeps_accepted_steps_within_it() {
-        let device = Default::default();
         let mut rng = ChaCha8Rng::seed_from_u64(8);
-        let (rows, obs_dim, act_dim) = (500, 3, 2);
-        let policy = PolicyConfig {
-            obs_dim,
-            act_dim,
+        let rows = 500;
+        let config = PolicyConfig {
+            obs_dim: 3,
+            act_dim: 2,
             hidden: vec![8, 8],
             log_std_init: -0.5,
-        }
-        .init::<Cpu>(&device);
-        let mut random =
-            |n: usize, s: f64| -> Vec<f64> { (0..n).map(|_| rng.random_range(-s..s)).collect() };
-        let theta = random(params_to_vec(&policy).len(), 0.5);
-        let policy = vec_to_params(policy, &theta);
-        let obs = random(rows * obs_dim, 2.0);
-        let actions = random(rows * act_dim, 1.5);
-        let data = StepData::<Cpu> {
-            obs: from_f64(&obs, [rows, obs_dim], &device),
-            actions: from_f64(&actions, [rows, act_dim], &device),
-            logp_old: policy.log_prob(
-                from_f64(&obs, [rows, obs_dim], &device),
-                from_f64(&actions, [rows, act_dim], &device),
-            ),
         };
-        let advantages = random(rows, 1.0);
+        let (policy, theta, obs, actions) = random_policy_and_pairs(&mut rng, config, rows);
+        let data = StepData::<Cpu> {
+            logp_old: policy.log_prob(obs.clone(), actions.clone()),
+            obs,
+            actions,
+        };
+        let advantages = random(&mut rng, rows, 1.0);
         let objective = HostObjective::new(&policy, &data, &advantages, 0.01);
         let max_kl = 0.05;
         let free = PolicyStepConfig::default();
@@ -465,33 +483,28 @@ mod tests {
         );
     }
 
+    /// The host objective (the default CPU path) against the burn one, term by term, on a
+    /// batch of 2100 rows (three host blocks) and a policy away from its initialisation.
     #[test]
     fn host_and_burn_objectives_agree() {
         let device = Default::default();
         let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let (rows, obs_dim, act_dim) = (2100, 4, 2);
-        let policy = PolicyConfig {
-            obs_dim,
-            act_dim,
+        let rows = 2100;
+        let config = PolicyConfig {
+            obs_dim: 4,
+            act_dim: 2,
             hidden: vec![8, 6],
             log_std_init: -0.4,
-        }
-        .init::<Cpu>(&device);
-        let random = |rng: &mut ChaCha8Rng, n: usize, s: f64| -> Vec<f64> {
-            (0..n).map(|_| rng.random_range(-s..s)).collect()
         };
-        let theta = random(&mut rng, params_to_vec(&policy).len(), 0.5);
-        let policy = vec_to_params(policy, &theta);
-        let obs = random(&mut rng, rows * obs_dim, 2.0);
-        let actions = random(&mut rng, rows * act_dim, 1.5);
+        let (policy, theta, obs, actions) = random_policy_and_pairs(&mut rng, config, rows);
         let logp_old = random(&mut rng, rows, 1.0)
             .iter()
             .map(|x| x - 2.0)
             .collect::<Vec<_>>();
         let advantages = random(&mut rng, rows, 1.0);
         let data = StepData::<Cpu> {
-            obs: from_f64(&obs, [rows, obs_dim], &device),
-            actions: from_f64(&actions, [rows, act_dim], &device),
+            obs,
+            actions,
             logp_old: from_f64(&logp_old, [rows], &device),
         };
         let burn = BurnObjective::new(&policy, &data, &advantages, 0.01);

@@ -10,6 +10,18 @@ fn logo(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// `logo args`, expected to succeed: its stdout.
+fn succeed(args: &[&str]) -> String {
+    let out = logo(args);
+    assert!(
+        out.status.success(),
+        "logo {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("logo-cli-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -112,7 +124,7 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
     let (dir, config) = tiny_run("train");
     let run = |name: &str| {
         let out_dir = dir.join(name);
-        let out = logo(&[
+        let stdout = succeed(&[
             "train",
             "--config",
             config.to_str().unwrap(),
@@ -121,12 +133,6 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
             "--seed",
             "3",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let stdout = String::from_utf8_lossy(&out.stdout).to_string();
         assert!(
             stdout.contains("[   2/2]") && stdout.contains("final eval dense return"),
             "{stdout}"
@@ -138,19 +144,14 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
     let (a, b) = (run("a"), run("b"));
     // The checkpoint evaluates.
     let ckpt = dir.join("a/checkpoint.safetensors");
-    let out = logo(&[
+    let stdout = succeed(&[
         "eval",
         "--checkpoint",
         ckpt.to_str().unwrap(),
         "--episodes",
         "2",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = stdout;
     assert!(
         text.contains("SparseInvertedDoublePendulum-v4") && text.contains("dense return"),
         "{text}"
@@ -208,7 +209,7 @@ fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
     let (dir, config) = tiny_run("behaviour");
     // Any evaluation reaches -1e9: the run stops after its first iteration.
     let out_dir = dir.join("run");
-    let out = logo(&[
+    let stdout = succeed(&[
         "train",
         "--config",
         config.to_str().unwrap(),
@@ -216,18 +217,13 @@ fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
         out_dir.to_str().unwrap(),
         "--stop-at-return=-1e9",
     ]);
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success() && stdout.contains("reached --stop-at-return"),
-        "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(stdout.contains("reached --stop-at-return"), "{stdout}");
     let csv = std::fs::read_to_string(out_dir.join("metrics.csv")).unwrap();
     assert_eq!(csv.lines().count(), 2, "stopped after one iteration: {csv}");
 
     let ckpt = out_dir.join("checkpoint.safetensors");
     let rec = dir.join("recorded");
-    let out = logo(&[
+    succeed(&[
         "data",
         "record",
         "--policy",
@@ -239,18 +235,8 @@ fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
         "--out",
         rec.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let out = logo(&["data", "inspect", rec.to_str().unwrap(), "--json"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let stdout = succeed(&["data", "inspect", rec.to_str().unwrap(), "--json"]);
+    let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(summary["episodes"], 3);
     assert_eq!(summary["env_id"], "InvertedDoublePendulum-v4");
     let dense = summary["dense_returns"].as_array().unwrap();
@@ -276,19 +262,8 @@ fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
     let (dir, config) = tiny_run("resume");
     let run_dir = dir.join("run");
     let run = dir.join("run").to_str().unwrap().to_string();
-    let out = logo(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let out = logo(&["train", "--resume", &run, "--iterations", "3"]);
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeed(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
+    let stdout = succeed(&["train", "--resume", &run, "--iterations", "3"]);
     assert!(
         stdout.contains("resuming") && stdout.contains("[   3/3]"),
         "{stdout}"
@@ -309,14 +284,8 @@ fn inspect_works_on_every_shipped_dataset() {
     for group in ["logo", "behaviour"] {
         for entry in std::fs::read_dir(data.join(group)).unwrap() {
             let path = entry.unwrap().path();
-            let out = logo(&["data", "inspect", path.to_str().unwrap(), "--json"]);
-            assert!(
-                out.status.success(),
-                "{}: {}",
-                path.display(),
-                String::from_utf8_lossy(&out.stderr)
-            );
-            let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+            let stdout = succeed(&["data", "inspect", path.to_str().unwrap(), "--json"]);
+            let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
             assert!(
                 summary["steps"].as_u64().unwrap() > 100,
                 "{}",

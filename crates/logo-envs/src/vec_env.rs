@@ -173,16 +173,7 @@ impl VecEnv {
 
     /// Steps every copy with its slice of `actions` (`num_envs * act_dim`, env-major).
     pub fn step(&mut self, actions: &[f64]) -> Result<&VecStep, EnvError> {
-        let all = vec![true; self.envs.len()];
-        self.step_active(actions, &all)
-    }
-
-    /// Steps only the copies with `active[i]`; the others keep their observation and
-    /// their `steps[i]` is left as it was (the rollout stops copies whose share of the
-    /// batch is collected while the rest finish their episodes).
-    pub fn step_active(&mut self, actions: &[f64], active: &[bool]) -> Result<&VecStep, EnvError> {
         let (n, act_dim, obs_dim) = (self.envs.len(), self.spec.act_dim, self.spec.obs_dim);
-        assert_eq!(active.len(), n, "one active flag per copy");
         if actions.len() != n * act_dim {
             return Err(EnvError::ActionLength {
                 env: format!("{} x {n}", self.spec.id),
@@ -202,18 +193,16 @@ impl VecEnv {
                     .zip(actions.par_chunks(act_dim))
                     .zip(obs.par_chunks_mut(obs_dim))
                     .zip(final_obs.par_chunks_mut(obs_dim))
-                    .zip(steps.par_iter_mut().zip(active.par_iter()))
-                    .filter(|(_, (_, on))| **on)
-                    .try_for_each(|((((env, a), o), f), (s, _))| step_one(env, a, o, f, s))
+                    .zip(steps.par_iter_mut())
+                    .try_for_each(|((((env, a), o), f), s)| step_one(env, a, o, f, s))
             })?,
             None => envs
                 .iter_mut()
                 .zip(actions.chunks(act_dim))
                 .zip(obs.chunks_mut(obs_dim))
                 .zip(final_obs.chunks_mut(obs_dim))
-                .zip(steps.iter_mut().zip(active))
-                .filter(|(_, (_, on))| **on)
-                .try_for_each(|((((env, a), o), f), (s, _))| step_one(env, a, o, f, s))?,
+                .zip(steps.iter_mut())
+                .try_for_each(|((((env, a), o), f), s)| step_one(env, a, o, f, s))?,
         }
         Ok(&self.out)
     }

@@ -11,7 +11,8 @@ use crate::flat::{from_f64, to_f64};
 use crate::host::{HostMlp, is_host_backend};
 use crate::mlp::{Mlp, MlpConfig};
 
-const LOG_2PI: f64 = 1.837_877_066_409_345_5; // ln(2π)
+/// ln(2π), of the Gaussian log-density.
+pub const LOG_2PI: f64 = 1.837_877_066_409_345_5;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PolicyConfig {
