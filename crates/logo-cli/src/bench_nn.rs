@@ -72,6 +72,102 @@ struct CriticBench {
     host_gflops: f64,
 }
 
+/// The three products of one 1024-row block of a 128-wide hidden layer (forward x·W,
+/// reverse dz·Wᵀ and xᵀ·dz), through `logo_nn::gemm` and through matrixmultiply,
+/// alternated, one thread.
+#[derive(Serialize)]
+struct GemmBench {
+    shape: &'static str,
+    kernel_ms: f64,
+    portable_ms: f64,
+    /// portable / kernel, median of per-repeat ratios.
+    speedup: f64,
+    kernel_gflops: f64,
+}
+
+fn bench_gemm(args: &NnBenchArgs) -> Vec<GemmBench> {
+    use logo_nn::gemm::{gemm, gemm_portable};
+    let (rows, width) = (1024, 128);
+    let x: Vec<f64> = (0..rows * width)
+        .map(|k| ((k as f64) * 0.37).sin())
+        .collect();
+    let w: Vec<f64> = (0..width * width)
+        .map(|k| ((k as f64) * 0.11).cos())
+        .collect();
+    // (name, (m, k, n), a, a strides, b, b strides)
+    type Shape<'a> = (
+        &'static str,
+        (usize, usize, usize),
+        &'a [f64],
+        (usize, usize),
+        &'a [f64],
+        (usize, usize),
+    );
+    let shapes: [Shape; 3] = [
+        (
+            "x·W   1024x128x128",
+            (rows, width, width),
+            &x,
+            (width, 1),
+            &w,
+            (width, 1),
+        ),
+        (
+            "dz·Wᵀ 1024x128x128",
+            (rows, width, width),
+            &x,
+            (width, 1),
+            &w,
+            (1, width),
+        ),
+        (
+            "xᵀ·dz 128x1024x128",
+            (width, rows, width),
+            &x,
+            (1, width),
+            &x,
+            (width, 1),
+        ),
+    ];
+    let passes = 20; // products per timing, so one sample is milliseconds long
+    shapes
+        .iter()
+        .map(|&(shape, dims, a, sa, b, sb)| {
+            let mut c = vec![0.0; dims.0 * dims.2];
+            let mut timed = |portable: bool| {
+                time(|| {
+                    for _ in 0..passes {
+                        if portable {
+                            gemm_portable(dims, a, sa, b, sb, &mut c, false);
+                        } else {
+                            gemm(dims, a, sa, b, sb, &mut c, false);
+                        }
+                        std::hint::black_box(&c);
+                    }
+                })
+                .1 / passes as f64
+            };
+            timed(false); // warm-up
+            timed(true);
+            let (mut kernel, mut portable, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+            for _ in 0..args.repeats {
+                let (k, p) = (timed(false), timed(true));
+                kernel.push(k);
+                portable.push(p);
+                ratios.push(p / k);
+            }
+            let kernel_s = median(kernel);
+            GemmBench {
+                shape,
+                kernel_ms: kernel_s * 1e3,
+                portable_ms: median(portable) * 1e3,
+                speedup: median(ratios),
+                kernel_gflops: 2.0 * (dims.0 * dims.1 * dims.2) as f64 / kernel_s / 1e9,
+            }
+        })
+        .collect()
+}
+
 fn bench_critic(args: &NnBenchArgs) -> CriticBench {
     let device = Default::default();
     let hidden = PolicyConfig::new(args.obs_dim, args.act_dim).hidden;
@@ -223,8 +319,9 @@ pub fn run(args: &NnBenchArgs) -> Result<()> {
         bench::<Cpu32Autodiff>("f32", args),
     ];
     let critic = bench_critic(args);
+    let gemms = bench_gemm(args);
     if args.json {
-        let all = serde_json::json!({ "policy": results, "critic": critic });
+        let all = serde_json::json!({ "policy": results, "critic": critic, "gemm": gemms });
         println!("{}", serde_json::to_string_pretty(&all)?);
         return Ok(());
     }
@@ -264,5 +361,11 @@ pub fn run(args: &NnBenchArgs) -> Result<()> {
         critic.threads,
         critic.host_gflops
     );
+    for g in &gemms {
+        println!(
+            "gemm {}: kernel {:.3} ms ({:.1} GFLOP/s), matrixmultiply {:.3} ms, speedup {:.2}",
+            g.shape, g.kernel_ms, g.kernel_gflops, g.portable_ms, g.speedup
+        );
+    }
     Ok(())
 }

@@ -17,6 +17,7 @@ use burn::tensor::backend::Backend;
 use rayon::prelude::*;
 
 use crate::flat::params_to_vec;
+use crate::gemm::gemm;
 use crate::mlp::{Mlp, tanh_f64_in_place};
 
 /// Whether `B` is the default CPU backend (`NdArray<f64>`), whose hot loops run here.
@@ -63,43 +64,6 @@ impl HostTrace {
 
 fn num_params(dims: &[usize]) -> usize {
     dims.windows(2).map(|w| w[0] * w[1] + w[1]).sum()
-}
-
-/// C = A·B (+ C if `accumulate`), all row-major with explicit strides.
-#[allow(clippy::too_many_arguments)]
-fn gemm(
-    (m, k, n): (usize, usize, usize),
-    a: &[f64],
-    (rsa, csa): (usize, usize),
-    b: &[f64],
-    (rsb, csb): (usize, usize),
-    c: &mut [f64],
-    accumulate: bool,
-) {
-    let fits = |len: usize, rows: usize, cols: usize, rs: usize, cs: usize| {
-        rows == 0 || cols == 0 || len > (rows - 1) * rs + (cols - 1) * cs
-    };
-    assert!(fits(a.len(), m, k, rsa, csa) && fits(b.len(), k, n, rsb, csb));
-    assert!(c.len() >= m * n);
-    // SAFETY: the asserts above keep every index dgemm touches inside the slices.
-    unsafe {
-        matrixmultiply::dgemm(
-            m,
-            k,
-            n,
-            1.0,
-            a.as_ptr(),
-            rsa as isize,
-            csa as isize,
-            b.as_ptr(),
-            rsb as isize,
-            csb as isize,
-            if accumulate { 1.0 } else { 0.0 },
-            c.as_mut_ptr(),
-            n as isize,
-            1,
-        );
-    }
 }
 
 impl HostMlp {

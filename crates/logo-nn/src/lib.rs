@@ -10,6 +10,7 @@ pub mod critic;
 pub mod discriminator;
 pub mod fisher;
 pub mod flat;
+pub mod gemm;
 pub mod host;
 pub mod mlp;
 pub mod policy;

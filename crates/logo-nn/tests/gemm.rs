@@ -1,0 +1,106 @@
+//! The host GEMM (AVX-512 kernel where the CPU has it) against a plain triple loop and
+//! against matrixmultiply, over the shapes that exercise its edges: partial micro-tiles
+//! in m and n, k crossing the packing chunk, transposed operands, accumulate or not.
+
+use logo_nn::gemm::{gemm, gemm_portable};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn reference(
+    (m, k, n): (usize, usize, usize),
+    a: &[f64],
+    (rsa, csa): (usize, usize),
+    b: &[f64],
+    (rsb, csb): (usize, usize),
+    c: &mut [f64],
+    accumulate: bool,
+) -> Vec<f64> {
+    // Also returns Σ|a||b| per element: the scale the rounding error is relative to.
+    let mut scale = vec![0.0; m * n];
+    for i in 0..m {
+        for j in 0..n {
+            let mut sum = if accumulate { c[i * n + j] } else { 0.0 };
+            let mut abs = sum.abs();
+            for p in 0..k {
+                let product = a[i * rsa + p * csa] * b[p * rsb + j * csb];
+                sum += product;
+                abs += product.abs();
+            }
+            c[i * n + j] = sum;
+            scale[i * n + j] = abs;
+        }
+    }
+    scale
+}
+
+#[test]
+fn gemm_matches_the_definition_on_every_edge() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut checked = 0;
+    for &(m, k, n) in &[
+        (1, 1, 1),
+        (12, 256, 16),
+        (13, 257, 17),
+        (11, 1024, 128),
+        (128, 1024, 128),
+        (1024, 128, 128),
+        (1000, 11, 128),
+        (300, 128, 1),
+        (5, 0, 7),
+        (0, 5, 7),
+        (25, 600, 3),
+        (37, 33, 40),
+    ] {
+        for transposed_a in [false, true] {
+            for transposed_b in [false, true] {
+                for accumulate in [false, true] {
+                    let sa = if transposed_a { (1, m) } else { (k, 1) };
+                    let sb = if transposed_b { (1, k) } else { (n, 1) };
+                    let a: Vec<f64> = (0..m * k).map(|_| rng.random_range(-1.0..1.0)).collect();
+                    let b: Vec<f64> = (0..k * n).map(|_| rng.random_range(-1.0..1.0)).collect();
+                    let c0: Vec<f64> = (0..m * n).map(|_| rng.random_range(-1.0..1.0)).collect();
+                    let mut expected = c0.clone();
+                    let scale = reference((m, k, n), &a, sa, &b, sb, &mut expected, accumulate);
+                    let mut fast = c0.clone();
+                    gemm((m, k, n), &a, sa, &b, sb, &mut fast, accumulate);
+                    let mut portable = c0.clone();
+                    gemm_portable((m, k, n), &a, sa, &b, sb, &mut portable, accumulate);
+                    for (name, got) in [("gemm", &fast), ("gemm_portable", &portable)] {
+                        for idx in 0..m * n {
+                            let err = (got[idx] - expected[idx]).abs();
+                            assert!(
+                                err <= 1e-14 * (scale[idx] + 1.0),
+                                "{name} {m}x{k}x{n} ta={transposed_a} tb={transposed_b} \
+                                 acc={accumulate} at {idx}: {} vs {}",
+                                got[idx],
+                                expected[idx]
+                            );
+                        }
+                    }
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(checked, 12 * 8);
+}
+
+#[test]
+fn gemm_writes_only_its_output() {
+    // C is a slice into a longer buffer: nothing past m × n may change.
+    let (m, k, n) = (13, 20, 9);
+    let a = vec![1.0; m * k];
+    let b = vec![1.0; k * n];
+    let mut buffer = vec![-3.0; m * n + 40];
+    gemm(
+        (m, k, n),
+        &a,
+        (k, 1),
+        &b,
+        (n, 1),
+        &mut buffer[..m * n],
+        false,
+    );
+    assert!(buffer[..m * n].iter().all(|&v| v == k as f64));
+    assert!(buffer[m * n..].iter().all(|&v| v == -3.0));
+}
