@@ -116,15 +116,16 @@ struct ResumeState {
     adam: Option<Adam>,
 }
 
-/// GAE for one reward stream with `critic`, then fits `critic` to the returns.
-/// Returns the normalised advantages and the critic's final loss.
+/// GAE for one reward stream with `critic` as it stands (the reference fits the critic
+/// only after computing the advantages). Returns the normalised advantages and the
+/// returns the critic is then fitted to.
 fn advantages<B: Backend>(
     config: &TrainConfig,
-    critic: &mut Critic<B>,
+    critic: &Critic<B>,
     batch: &Batch,
     rewards: &[f64],
     obs: &Tensor<B, 2>,
-) -> (Vec<f64>, f64) {
+) -> (Vec<f64>, Vec<f64>) {
     let values = critic.values(obs.clone());
     let mut truncation_values = vec![0.0; batch.len()];
     if !batch.truncations.is_empty() {
@@ -155,11 +156,50 @@ fn advantages<B: Backend>(
         config.gae_lambda,
         config.cross_episode_bootstrap,
     );
-    let losses = critic.fit(obs, &returns, config.critic_l2, config.critic_iters);
-    (
-        normalise(&adv),
-        losses.iter().sum::<f64>() / losses.len() as f64,
-    )
+    (normalise(&adv), returns)
+}
+
+/// Fits `critic` to `returns`; its mean final loss.
+fn fit_critic<B: Backend>(
+    config: &TrainConfig,
+    critic: &mut Critic<B>,
+    obs: &Tensor<B, 2>,
+    returns: &[f64],
+) -> f64 {
+    let losses = critic.fit(obs, returns, config.critic_l2, config.critic_iters);
+    losses.iter().sum::<f64>() / losses.len() as f64
+}
+
+/// Mean dense return of the mean-action policy over whole episodes of at least
+/// `config.eval_steps` steps in all, from fixed initial states.
+fn evaluate<B: Backend>(
+    config: &TrainConfig,
+    policy: &GaussianPolicy<B>,
+    eval_env: &mut dyn Env,
+) -> Result<f64, TrainError> {
+    let policy = policy.acting();
+    let spec = eval_env.spec().clone();
+    let mut obs = vec![0.0; spec.obs_dim];
+    let (mut steps, mut returns) = (0, Vec::new());
+    while steps < config.eval_steps {
+        // Fixed evaluation seeds: every evaluation sees the same initial states.
+        eval_env.reset(
+            Some(1_000_000 + config.seed * 1000 + returns.len() as u64),
+            &mut obs,
+        );
+        let mut total = 0.0;
+        loop {
+            let action = policy.mean(&obs);
+            let step = eval_env.step(&action, &mut obs)?;
+            total += step.info.dense_reward;
+            steps += 1;
+            if step.done() {
+                break;
+            }
+        }
+        returns.push(total);
+    }
+    Ok(returns.iter().sum::<f64>() / returns.len() as f64)
 }
 
 impl<B: AutodiffBackend> Trainer<B> {
@@ -396,22 +436,10 @@ impl<B: AutodiffBackend> Trainer<B> {
             logp_old: logp_old.clone(),
         };
 
-        // 2-3. Env critic, improvement step.
-        let (adv, critic_loss) =
-            advantages(&self.config, &mut self.critic, &batch, &batch.rewards, &obs);
-        time.critics += lap();
-        let (policy, improvement) = trpo_step(
-            self.policy.clone(),
-            &data,
-            &adv,
-            self.config.max_kl,
-            &self.config.policy_step,
-        );
-        self.policy = policy;
-        time.policy_step = lap();
-
-        // 4-5. δ_k, guidance step, discriminator.
-        let (mut guidance_kl, mut delta_k, mut disc_loss) = (0.0, 0.0, f64::NAN);
+        // 2. Advantages of both reward streams with the critics as they stand; δ_k.
+        let (adv, returns) = advantages(&self.config, &self.critic, &batch, &batch.rewards, &obs);
+        let mut guidance_batch = None; // (advantages, returns) of r_C, while guidance is on
+        let mut delta_k = 0.0;
         if let Some(g) = &mut self.guidance {
             g.schedule.update(k, batch.mean_return());
             delta_k = g.schedule.delta;
@@ -422,38 +450,93 @@ impl<B: AutodiffBackend> Trainer<B> {
                         behaviour_rewards(pi_b, &logp_old, &obs, &actions)
                     }
                 };
-                let (adv_c, _) = advantages(&self.config, &mut g.critic, &batch, &rewards, &obs);
-                time.critics += lap();
-                let (policy, stats) = trpo_step(
-                    self.policy.clone(),
-                    &data,
-                    &adv_c,
-                    delta_k,
-                    &self.config.policy_step,
-                );
-                self.policy = policy;
+                guidance_batch = Some(advantages(&self.config, &g.critic, &batch, &rewards, &obs));
+            }
+        }
+        time.critics = lap();
+        self.iteration += 1;
+        self.samples += n;
+        let evaluate_now = k.is_multiple_of(self.config.eval_every) || self.done();
+
+        // 3-6. The critic fits need nothing that follows and nothing that follows needs
+        // them until the next iteration's advantages, so they run beside the policy steps,
+        // the discriminator update and the evaluation (both halves on rayon's pool;
+        // results do not depend on the overlap).
+        let Self {
+            config,
+            critic,
+            guidance,
+            policy,
+            eval_env,
+            ..
+        } = self;
+        let (guidance_critic, mut guidance_signal) = match guidance {
+            Some(g) => (Some(&mut g.critic), Some(&mut g.signal)),
+            None => (None, None),
+        };
+        let fit_critics = || {
+            let clock = Instant::now();
+            let (env_loss, _) = rayon::join(
+                || fit_critic(config, critic, &obs, &returns),
+                || {
+                    if let (Some(critic), Some((_, returns))) = (guidance_critic, &guidance_batch) {
+                        fit_critic(config, critic, &obs, returns);
+                    }
+                },
+            );
+            (env_loss, clock.elapsed().as_secs_f64())
+        };
+        let steps = || -> Result<_, TrainError> {
+            let mut times = PhaseTimes::default();
+            let mut clock = Instant::now();
+            let mut lap = || {
+                let now = Instant::now();
+                let dt = (now - clock).as_secs_f64();
+                clock = now;
+                dt
+            };
+            // 3. Improvement step.
+            let (next, improvement) = trpo_step(
+                policy.clone(),
+                &data,
+                &adv,
+                config.max_kl,
+                &config.policy_step,
+            );
+            *policy = next;
+            times.policy_step = lap();
+            // 5. Guidance step on the same batch, then the discriminator update.
+            let (mut guidance_kl, mut disc_loss) = (0.0, f64::NAN);
+            if let Some((adv_c, _)) = &guidance_batch {
+                let (next, stats) =
+                    trpo_step(policy.clone(), &data, adv_c, delta_k, &config.policy_step);
+                *policy = next;
                 guidance_kl = stats.kl;
-                time.guidance = lap();
-                if let GuidanceSignal::Discriminator(d) = &mut g.signal {
+                times.guidance = lap();
+                if let Some(GuidanceSignal::Discriminator(d)) = guidance_signal.as_deref_mut() {
                     disc_loss = d.update(
                         Tensor::from_inner(obs.clone()),
                         Tensor::from_inner(actions.clone()),
                     );
                 }
-                time.discriminator = lap();
+                times.discriminator = lap();
             }
-        }
-
-        // 6. Evaluate, record.
-        self.iteration += 1;
-        self.samples += n;
-        lap();
-        let eval = if k.is_multiple_of(self.config.eval_every) || self.done() {
-            self.evaluate()?
-        } else {
-            f64::NAN
+            // 6. Evaluate.
+            let eval = if evaluate_now {
+                evaluate(config, policy, eval_env.as_mut())?
+            } else {
+                f64::NAN
+            };
+            times.evaluation = lap();
+            Ok((improvement, guidance_kl, disc_loss, eval, times))
         };
-        time.evaluation = lap();
+        let ((critic_loss, fit_time), stepped) = rayon::join(fit_critics, steps);
+        let (improvement, guidance_kl, disc_loss, eval, step_times) = stepped?;
+        time = PhaseTimes {
+            sampling: time.sampling,
+            critics: time.critics + fit_time,
+            ..step_times
+        };
         let metrics = IterationMetrics {
             iteration: k,
             samples: self.samples,
@@ -474,34 +557,6 @@ impl<B: AutodiffBackend> Trainer<B> {
             self.save_checkpoint(&self.out_dir.join("checkpoint.safetensors"))?;
         }
         Ok(metrics)
-    }
-
-    /// Mean dense return of the mean-action policy over whole episodes of at least
-    /// `eval_steps` steps in all.
-    pub fn evaluate(&mut self) -> Result<f64, TrainError> {
-        let policy = self.policy.acting();
-        let spec = self.eval_env.spec().clone();
-        let mut obs = vec![0.0; spec.obs_dim];
-        let (mut steps, mut returns) = (0, Vec::new());
-        while steps < self.config.eval_steps {
-            // Fixed evaluation seeds: every evaluation sees the same initial states.
-            self.eval_env.reset(
-                Some(1_000_000 + self.config.seed * 1000 + returns.len() as u64),
-                &mut obs,
-            );
-            let mut total = 0.0;
-            loop {
-                let action = policy.mean(&obs);
-                let step = self.eval_env.step(&action, &mut obs)?;
-                total += step.info.dense_reward;
-                steps += 1;
-                if step.done() {
-                    break;
-                }
-            }
-            returns.push(total);
-        }
-        Ok(returns.iter().sum::<f64>() / returns.len() as f64)
     }
 
     fn append_csv(&self, m: &IterationMetrics) -> std::io::Result<()> {

@@ -2,11 +2,12 @@
 //! matrixmultiply's portable dgemm elsewhere.
 //!
 //! Why a kernel of our own: the critic fits are two dozen forward and reverse passes of a
-//! 128-128 net over 20k rows per reward stream, and matrixmultiply 0.3 has no AVX-512
-//! path for f64, so it ran at about 20 GFLOP/s per core where the FMA units allow ~4×
-//! that. The products here are all narrow (n ≤ 128, k ≤ one block of rows), so one
-//! register-blocked micro-kernel over packed panels is enough: no outer cache blocking
-//! beyond cutting k into chunks whose packed panels stay in L1/L2.
+//! 128-128 net over 20k rows per reward stream. matrixmultiply packs both operands on
+//! every call, and here one of them is always a 1024-row block of activations: its
+//! packing was a fifth of its time in a Hopper iteration's profile. The kernel below
+//! reads A in place (row-major or transposed), packs only B (a weight matrix or one
+//! block's upstream gradients) and runs 12 × 16 tiles of AVX-512 fused multiply-adds.
+//! `logo bench nn` compares the two on the three shapes of a block (docs/benchmarks.md).
 //!
 //! Determinism: every element of C is accumulated over k in order, chunk by chunk, with
 //! fused multiply-adds; the result depends only on the operands, never on threads.
@@ -25,6 +26,12 @@ pub fn gemm(
     accumulate: bool,
 ) {
     check_operands((m, k, n), a, a_strides, b, b_strides, c);
+    if n == 1 {
+        // A single output column (a value net's last layer, a 1-D policy's mean): a
+        // 16-wide tile would waste 15 of its lanes.
+        gemv((m, k), a, a_strides, b, b_strides.0, c, accumulate);
+        return;
+    }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx512f") {
         // SAFETY: the CPU has AVX-512F (checked just above) and `check_operands` keeps
@@ -43,6 +50,54 @@ pub fn gemm(
         return;
     }
     gemm_portable((m, k, n), a, a_strides, b, b_strides, c, accumulate);
+}
+
+/// c (`m`) = A·b (+ c), the `n = 1` case of [`gemm`]: dot products along A's rows when
+/// they are contiguous, otherwise c += b_p · A[:, p] column by column (A transposed).
+fn gemv(
+    (m, k): (usize, usize),
+    a: &[f64],
+    (rsa, csa): (usize, usize),
+    b: &[f64],
+    b_stride: usize,
+    c: &mut [f64],
+    accumulate: bool,
+) {
+    let c = &mut c[..m];
+    if !accumulate {
+        c.fill(0.0);
+    }
+    if csa == 1 && b_stride == 1 {
+        for (i, ci) in c.iter_mut().enumerate() {
+            let row = &a[i * rsa..i * rsa + k];
+            // Eight running sums, so the compiler can keep them in one vector register
+            // instead of one serial chain of additions.
+            let mut lanes = [0.0; 8];
+            for (x, y) in row.chunks_exact(8).zip(b.chunks_exact(8)) {
+                for l in 0..8 {
+                    lanes[l] += x[l] * y[l];
+                }
+            }
+            let tail = k - k % 8;
+            let tail_sum: f64 = row[tail..]
+                .iter()
+                .zip(&b[tail..k])
+                .map(|(x, y)| x * y)
+                .sum();
+            *ci += lanes.iter().sum::<f64>() + tail_sum;
+        }
+    } else if rsa == 1 {
+        for p in 0..k {
+            let (column, bp) = (&a[p * csa..p * csa + m], b[p * b_stride]);
+            c.iter_mut().zip(column).for_each(|(ci, x)| *ci += bp * x);
+        }
+    } else {
+        for (i, ci) in c.iter_mut().enumerate() {
+            *ci += (0..k)
+                .map(|p| a[i * rsa + p * csa] * b[p * b_stride])
+                .sum::<f64>();
+        }
+    }
 }
 
 /// The same product through matrixmultiply's dgemm (any CPU); [`gemm`] falls back to it
@@ -107,7 +162,7 @@ mod avx512 {
     const MR: usize = 12;
     /// Columns of C per micro-tile: two zmm of 8 doubles.
     const NR: usize = 16;
-    /// k per packed chunk: a 12 × 256 A panel (24 KiB) stays in L1 while the B panels
+    /// k per chunk: a 12 × 256 tile of A (24 KiB) stays in L1 while the packed B panels
     /// (256 × 16 each, 32 KiB) stream from L2.
     const KC: usize = 256;
 
@@ -140,50 +195,64 @@ mod avx512 {
         let panels = n.div_ceil(NR);
         PACKED.with_borrow_mut(|(a_pack, b_pack)| {
             a_pack.resize(MR * KC, 0.0);
-            b_pack.resize(panels * NR * KC, 0.0);
+            // Panels start on a 64-byte line so that no zmm load splits across two.
+            b_pack.resize(panels * NR * KC + 8, 0.0);
+            let align = b_pack.as_ptr().align_offset(64);
+            let b_pack = &mut b_pack[align..];
             for k0 in (0..k).step_by(KC) {
                 let kc = KC.min(k - k0);
                 // B[k0.., :] as column panels of NR, each kc × NR row-major, zero-padded.
                 for p in 0..panels {
                     let (j0, nr) = (p * NR, NR.min(n - p * NR));
-                    let panel = &mut b_pack[p * KC * NR..p * KC * NR + kc * NR];
+                    let panel = &mut b_pack[p * kc * NR..(p + 1) * kc * NR];
                     for (kk, row) in panel.chunks_exact_mut(NR).enumerate() {
-                        for (jj, value) in row.iter_mut().enumerate() {
-                            *value = if jj < nr {
+                        let source = b.wrapping_add((k0 + kk) * rsb + j0 * csb);
+                        if csb == 1 {
+                            // SAFETY: B's row k0 + kk holds columns j0..j0 + nr.
+                            row[..nr]
+                                .copy_from_slice(unsafe { std::slice::from_raw_parts(source, nr) });
+                        } else {
+                            for (jj, value) in row[..nr].iter_mut().enumerate() {
                                 // SAFETY: (k0 + kk, j0 + jj) lies inside B's shape.
-                                unsafe { *b.add((k0 + kk) * rsb + (j0 + jj) * csb) }
-                            } else {
-                                0.0
-                            };
+                                *value = unsafe { *source.add(jj * csb) };
+                            }
                         }
+                        row[nr..].fill(0.0);
                     }
                 }
                 for i0 in (0..m).step_by(MR) {
                     let mr = MR.min(m - i0);
-                    // A[i0.., k0..] as one kc × MR panel (column of MR per k), zero-padded.
-                    for (kk, column) in a_pack[..kc * MR].chunks_exact_mut(MR).enumerate() {
-                        for (ii, value) in column.iter_mut().enumerate() {
-                            *value = if ii < mr {
-                                // SAFETY: (i0 + ii, k0 + kk) lies inside A's shape.
-                                unsafe { *a.add((i0 + ii) * rsa + (k0 + kk) * csa) }
-                            } else {
-                                0.0
-                            };
+                    // A is read in place when its MR rows are whole and one of its
+                    // strides is 1; otherwise (the last rows) copied into a zero-padded
+                    // panel with unit row stride.
+                    let (a_tile, a_rs, a_cs) = if mr == MR && (csa == 1 || rsa == 1) {
+                        (a.wrapping_add(i0 * rsa + k0 * csa), rsa, csa)
+                    } else {
+                        for (kk, column) in a_pack[..kc * MR].chunks_exact_mut(MR).enumerate() {
+                            for (ii, value) in column.iter_mut().enumerate() {
+                                *value = if ii < mr {
+                                    // SAFETY: (i0 + ii, k0 + kk) lies inside A's shape.
+                                    unsafe { *a.add((i0 + ii) * rsa + (k0 + kk) * csa) }
+                                } else {
+                                    0.0
+                                };
+                            }
                         }
-                    }
+                        (a_pack.as_ptr(), 1, MR)
+                    };
                     for p in 0..panels {
                         let (j0, nr) = (p * NR, NR.min(n - p * NR));
-                        // SAFETY: the panels hold kc rows; the tile (i0.., j0..) of
-                        // mr × nr lies inside C; the CPU has AVX-512F (caller).
+                        let b_panel = b_pack[p * kc * NR..].as_ptr();
+                        let c_tile = c.wrapping_add(i0 * n + j0);
+                        // SAFETY: A's tile holds MR × kc elements through its strides,
+                        // the B panel kc × NR; the tile (i0.., j0..) of mr × nr lies
+                        // inside C; the CPU has AVX-512F (caller).
                         unsafe {
-                            kernel(
-                                kc,
-                                a_pack.as_ptr(),
-                                b_pack.as_ptr().add(p * KC * NR),
-                                c.add(i0 * n + j0),
-                                n,
-                                (mr, nr),
-                            )
+                            if a_cs == 1 {
+                                kernel::<true>(kc, a_tile, a_rs, b_panel, c_tile, n, (mr, nr))
+                            } else {
+                                kernel::<false>(kc, a_tile, a_cs, b_panel, c_tile, n, (mr, nr))
+                            }
                         };
                     }
                 }
@@ -191,12 +260,15 @@ mod avx512 {
         });
     }
 
-    /// C[..mr, ..nr] += A_panel · B_panel over `kc`, C with row stride `ldc`.
+    /// C[..mr, ..nr] += A_tile · B_panel over `kc`, C with row stride `ldc`. A's element
+    /// (r, kk) is at `a[r * a_stride + kk]` when `ROWS_CONTIGUOUS` (a row-major operand),
+    /// else at `a[kk * a_stride + r]` (a transposed one, or the packed panel).
     #[target_feature(enable = "avx512f")]
     #[inline]
-    unsafe fn kernel(
+    unsafe fn kernel<const ROWS_CONTIGUOUS: bool>(
         kc: usize,
         a: *const f64,
+        a_stride: usize,
         b: *const f64,
         c: *mut f64,
         ldc: usize,
@@ -214,17 +286,26 @@ mod avx512 {
                 row[1] = _mm512_maskz_loadu_pd(mask_hi, c_row.wrapping_add(8));
             }
         }
+        let rows: [*const f64; MR] = std::array::from_fn(|r| a.wrapping_add(r * a_stride));
         for kk in 0..kc {
-            // SAFETY: both panels hold kc rows (B: NR wide, A: MR wide).
+            // SAFETY: the B panel holds kc rows of NR.
             let (b0, b1) = unsafe {
                 (
                     _mm512_loadu_pd(b.add(kk * NR)),
                     _mm512_loadu_pd(b.add(kk * NR + 8)),
                 )
             };
+            let column = a.wrapping_add(kk * a_stride);
             for (r, row) in acc.iter_mut().enumerate() {
-                // SAFETY: as above.
-                let a_r = _mm512_set1_pd(unsafe { *a.add(kk * MR + r) });
+                // SAFETY: A's tile holds MR rows of kc elements (caller).
+                let value = unsafe {
+                    if ROWS_CONTIGUOUS {
+                        *rows[r].add(kk)
+                    } else {
+                        *column.add(r)
+                    }
+                };
+                let a_r = _mm512_set1_pd(value);
                 row[0] = _mm512_fmadd_pd(a_r, b0, row[0]);
                 row[1] = _mm512_fmadd_pd(a_r, b1, row[1]);
             }

@@ -28,7 +28,7 @@ pub fn is_host_backend<B: Backend>() -> bool {
 /// Rows per block: small enough that one block's activations (1024 × 128 × 8 B = 1 MiB)
 /// stay in a 2 MiB L2 cache while the next layer reads them, large enough for dgemm to
 /// run at full speed.
-const BLOCK_ROWS: usize = 1024;
+const BLOCK_ROWS: usize = 256;
 
 /// Up to this many rows, the forward pass multiplies directly instead of calling dgemm.
 const SMALL_ROWS: usize = 4;
