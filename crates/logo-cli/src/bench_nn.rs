@@ -86,7 +86,7 @@ struct GemmBench {
 }
 
 fn bench_gemm(args: &NnBenchArgs) -> Vec<GemmBench> {
-    use logo_nn::gemm::{gemm, gemm_portable};
+    use logo_nn::gemm::{Finish, Start, gemm, gemm_portable};
     let (rows, width) = (1024, 128);
     let x: Vec<f64> = (0..rows * width)
         .map(|k| ((k as f64) * 0.37).sin())
@@ -138,9 +138,9 @@ fn bench_gemm(args: &NnBenchArgs) -> Vec<GemmBench> {
                 time(|| {
                     for _ in 0..passes {
                         if portable {
-                            gemm_portable(dims, a, sa, b, sb, &mut c, false);
+                            gemm_portable(dims, a, sa, b, sb, &mut c, Start::Zero, Finish::None);
                         } else {
-                            gemm(dims, a, sa, b, sb, &mut c, false);
+                            gemm(dims, a, sa, b, sb, &mut c, Start::Zero, Finish::None);
                         }
                         std::hint::black_box(&c);
                     }

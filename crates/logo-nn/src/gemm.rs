@@ -12,7 +12,29 @@
 //! Determinism: every element of C is accumulated over k in order, chunk by chunk, with
 //! fused multiply-adds; the result depends only on the operands, never on threads.
 
-/// C (`m × n`, row-major, dense) = A·B, or C + A·B if `accumulate`. A is `m × k` and B
+/// Where C starts from before A·B is added.
+#[derive(Debug, Clone, Copy)]
+pub enum Start<'a> {
+    /// C = A·B.
+    Zero,
+    /// C += A·B.
+    Accumulate,
+    /// C = bias + A·B, the `n` biases added to every row (a layer's pre-activation).
+    Bias(&'a [f64]),
+}
+
+/// What is done to C once the product is in, a few rows at a time while they are still
+/// in cache (instead of another pass over the whole block).
+#[derive(Debug, Clone, Copy)]
+pub enum Finish<'a> {
+    None,
+    /// C ← tanh(C): a hidden layer's activation.
+    Tanh,
+    /// C ← C ⊙ (1 − h²), `h` laid out like C: back through a tanh whose output was h.
+    TanhDerivative(&'a [f64]),
+}
+
+/// C (`m × n`, row-major, dense) = `start` + A·B, then `finish`. A is `m × k` and B
 /// `k × n`, each read through explicit (row, column) strides, so a transposed operand is
 /// just swapped strides.
 #[allow(clippy::too_many_arguments)]
@@ -23,13 +45,25 @@ pub fn gemm(
     b: &[f64],
     b_strides: (usize, usize),
     c: &mut [f64],
-    accumulate: bool,
+    start: Start,
+    finish: Finish,
 ) {
-    check_operands((m, k, n), a, a_strides, b, b_strides, c);
-    if n == 1 {
+    check_operands(
+        (m, k, n),
+        a,
+        a_strides,
+        b,
+        b_strides,
+        start,
+        finish,
+        c.len(),
+    );
+    if n == 1 || k == 0 {
         // A single output column (a value net's last layer, a 1-D policy's mean): a
         // 16-wide tile would waste 15 of its lanes.
-        gemv((m, k), a, a_strides, b, b_strides.0, c, accumulate);
+        begin(&mut c[..m * n], start);
+        gemv((m, k, n), a, a_strides, b, b_strides.0, c);
+        end(&mut c[..m * n], finish);
         return;
     }
     #[cfg(target_arch = "x86_64")]
@@ -44,29 +78,103 @@ pub fn gemm(
                 b.as_ptr(),
                 b_strides,
                 c.as_mut_ptr(),
-                accumulate,
+                start,
+                finish,
             )
         };
         return;
     }
-    gemm_portable((m, k, n), a, a_strides, b, b_strides, c, accumulate);
+    gemm_portable((m, k, n), a, a_strides, b, b_strides, c, start, finish);
 }
 
-/// c (`m`) = A·b (+ c), the `n = 1` case of [`gemm`]: dot products along A's rows when
+/// [`gemm`] into a new `m × n` buffer; `start` is `Zero` or `Bias`. Where the AVX-512
+/// kernel runs it writes every element, so the buffer is not zero-filled first (that
+/// fill was a tenth of a Hopper iteration's profile).
+#[allow(clippy::too_many_arguments)]
+pub fn gemm_to_vec(
+    (m, k, n): (usize, usize, usize),
+    a: &[f64],
+    a_strides: (usize, usize),
+    b: &[f64],
+    b_strides: (usize, usize),
+    start: Start,
+    finish: Finish,
+) -> Vec<f64> {
+    assert!(
+        !matches!(start, Start::Accumulate),
+        "a new buffer has nothing to accumulate into"
+    );
+    #[cfg(target_arch = "x86_64")]
+    if n > 1 && k > 0 && std::arch::is_x86_feature_detected!("avx512f") {
+        let mut c = Vec::with_capacity(m * n);
+        // The capacity is m × n; check_operands reads only its length.
+        check_operands((m, k, n), a, a_strides, b, b_strides, start, finish, m * n);
+        // SAFETY: the CPU has AVX-512F; the operands passed check_operands; C has room
+        // for m × n elements and, starting from Zero or Bias, the kernel writes each of
+        // them before reading it, so all m × n are initialised when set_len runs.
+        unsafe {
+            avx512::gemm(
+                (m, k, n),
+                a.as_ptr(),
+                a_strides,
+                b.as_ptr(),
+                b_strides,
+                c.as_mut_ptr(),
+                start,
+                finish,
+            );
+            c.set_len(m * n);
+        }
+        return c;
+    }
+    let mut c = vec![0.0; m * n];
+    gemm((m, k, n), a, a_strides, b, b_strides, &mut c, start, finish);
+    c
+}
+
+/// C = `start` (all of C).
+fn begin(c: &mut [f64], start: Start) {
+    match start {
+        Start::Zero => c.fill(0.0),
+        Start::Accumulate => {}
+        Start::Bias(bias) => c
+            .chunks_exact_mut(bias.len())
+            .for_each(|row| row.copy_from_slice(bias)),
+    }
+}
+
+/// `finish` applied to `c`, whose elements are `h`'s from `offset` on.
+fn end_at(c: &mut [f64], finish: Finish, offset: usize) {
+    match finish {
+        Finish::None => {}
+        Finish::Tanh => crate::mlp::tanh_f64_in_place(c),
+        Finish::TanhDerivative(h) => c
+            .iter_mut()
+            .zip(&h[offset..])
+            .for_each(|(d, h)| *d *= 1.0 - h * h),
+    }
+}
+
+fn end(c: &mut [f64], finish: Finish) {
+    end_at(c, finish, 0);
+}
+
+/// c (`m`) += A·b, the `n = 1` case of [`gemm`]: dot products along A's rows when
 /// they are contiguous, otherwise c += b_p · A[:, p] column by column (A transposed).
+/// (`k = 0` comes here too: nothing to add.)
 fn gemv(
-    (m, k): (usize, usize),
+    (m, k, n): (usize, usize, usize),
     a: &[f64],
     (rsa, csa): (usize, usize),
     b: &[f64],
     b_stride: usize,
     c: &mut [f64],
-    accumulate: bool,
 ) {
-    let c = &mut c[..m];
-    if !accumulate {
-        c.fill(0.0);
+    if k == 0 || m == 0 {
+        return;
     }
+    debug_assert_eq!(n, 1);
+    let c = &mut c[..m];
     if csa == 1 && b_stride == 1 {
         for (i, ci) in c.iter_mut().enumerate() {
             let row = &a[i * rsa..i * rsa + k];
@@ -110,9 +218,20 @@ pub fn gemm_portable(
     b: &[f64],
     (rsb, csb): (usize, usize),
     c: &mut [f64],
-    accumulate: bool,
+    start: Start,
+    finish: Finish,
 ) {
-    check_operands((m, k, n), a, (rsa, csa), b, (rsb, csb), c);
+    check_operands(
+        (m, k, n),
+        a,
+        (rsa, csa),
+        b,
+        (rsb, csb),
+        start,
+        finish,
+        c.len(),
+    );
+    begin(&mut c[..m * n], start);
     // SAFETY: `check_operands` keeps every index dgemm touches inside the slices.
     unsafe {
         matrixmultiply::dgemm(
@@ -126,21 +245,25 @@ pub fn gemm_portable(
             b.as_ptr(),
             rsb as isize,
             csb as isize,
-            if accumulate { 1.0 } else { 0.0 },
+            1.0,
             c.as_mut_ptr(),
             n as isize,
             1,
         );
     }
+    end(&mut c[..m * n], finish);
 }
 
+#[allow(clippy::too_many_arguments)]
 fn check_operands(
     (m, k, n): (usize, usize, usize),
     a: &[f64],
     (rsa, csa): (usize, usize),
     b: &[f64],
     (rsb, csb): (usize, usize),
-    c: &[f64],
+    start: Start,
+    finish: Finish,
+    c_len: usize,
 ) {
     let fits = |len: usize, rows: usize, cols: usize, rs: usize, cs: usize| {
         rows == 0 || cols == 0 || len > (rows - 1) * rs + (cols - 1) * cs
@@ -149,13 +272,21 @@ fn check_operands(
         fits(a.len(), m, k, rsa, csa) && fits(b.len(), k, n, rsb, csb),
         "gemm operand shorter than its shape and strides"
     );
-    assert!(c.len() >= m * n, "gemm output shorter than m × n");
+    assert!(c_len >= m * n, "gemm output shorter than m × n");
+    if let Start::Bias(bias) = start {
+        assert_eq!(bias.len(), n, "gemm bias of the wrong length");
+    }
+    if let Finish::TanhDerivative(h) = finish {
+        assert!(h.len() >= m * n, "gemm tanh output shorter than m × n");
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
 mod avx512 {
     use std::arch::x86_64::*;
     use std::cell::RefCell;
+
+    use super::{Finish, Start};
 
     /// Rows of C per micro-tile: 12 rows × 2 zmm = 24 accumulators, plus the two B
     /// vectors and a broadcast, within the 32 zmm registers.
@@ -173,8 +304,11 @@ mod avx512 {
     }
 
     /// # Safety
-    /// The CPU must have AVX-512F, and A, B and C must hold every element their shapes
-    /// and strides address (C dense row-major, `m × n`).
+    /// The CPU must have AVX-512F; A and B must hold every element their shapes and
+    /// strides address; `k > 0`; C must hold `m × n` elements, initialised unless
+    /// `start` is `Zero` or `Bias` (then every element is written before it is read);
+    /// a bias must hold `n` values and a tanh output `m × n`.
+    #[allow(clippy::too_many_arguments)]
     #[target_feature(enable = "avx512f")]
     pub unsafe fn gemm(
         (m, k, n): (usize, usize, usize),
@@ -183,13 +317,10 @@ mod avx512 {
         b: *const f64,
         (rsb, csb): (usize, usize),
         c: *mut f64,
-        accumulate: bool,
+        start: Start,
+        finish: Finish,
     ) {
-        if !accumulate {
-            // SAFETY: C holds m × n elements.
-            unsafe { std::ptr::write_bytes(c, 0, m * n) };
-        }
-        if m == 0 || n == 0 || k == 0 {
+        if m == 0 {
             return;
         }
         let panels = n.div_ceil(NR);
@@ -220,6 +351,7 @@ mod avx512 {
                         row[nr..].fill(0.0);
                     }
                 }
+                let (first, last) = (k0 == 0, k0 + kc == k);
                 for i0 in (0..m).step_by(MR) {
                     let mr = MR.min(m - i0);
                     // A is read in place when its MR rows are whole and one of its
@@ -240,29 +372,70 @@ mod avx512 {
                         }
                         (a_pack.as_ptr(), 1, MR)
                     };
+                    let rows = c.wrapping_add(i0 * n);
                     for p in 0..panels {
                         let (j0, nr) = (p * NR, NR.min(n - p * NR));
                         let b_panel = b_pack[p * kc * NR..].as_ptr();
-                        let c_tile = c.wrapping_add(i0 * n + j0);
+                        let tile_start = match start {
+                            _ if !first => TileStart::Load,
+                            Start::Zero => TileStart::Zero,
+                            Start::Accumulate => TileStart::Load,
+                            Start::Bias(bias) => TileStart::Bias(bias[j0..].as_ptr()),
+                        };
+                        let c_tile = rows.wrapping_add(j0);
                         // SAFETY: A's tile holds MR × kc elements through its strides,
-                        // the B panel kc × NR; the tile (i0.., j0..) of mr × nr lies
-                        // inside C; the CPU has AVX-512F (caller).
+                        // the B panel kc × NR; the tile (j0.., mr × nr) lies inside
+                        // `rows`; a bias holds n values; the CPU has AVX-512F (caller).
                         unsafe {
                             if a_cs == 1 {
-                                kernel::<true>(kc, a_tile, a_rs, b_panel, c_tile, n, (mr, nr))
+                                kernel::<true>(
+                                    kc,
+                                    a_tile,
+                                    a_rs,
+                                    b_panel,
+                                    c_tile,
+                                    n,
+                                    (mr, nr),
+                                    tile_start,
+                                )
                             } else {
-                                kernel::<false>(kc, a_tile, a_cs, b_panel, c_tile, n, (mr, nr))
+                                kernel::<false>(
+                                    kc,
+                                    a_tile,
+                                    a_cs,
+                                    b_panel,
+                                    c_tile,
+                                    n,
+                                    (mr, nr),
+                                    tile_start,
+                                )
                             }
                         };
+                    }
+                    if last {
+                        // SAFETY: every panel has written its columns of these mr rows.
+                        let rows = unsafe { std::slice::from_raw_parts_mut(rows, mr * n) };
+                        super::end_at(rows, finish, i0 * n);
                     }
                 }
             }
         });
     }
 
-    /// C[..mr, ..nr] += A_tile · B_panel over `kc`, C with row stride `ldc`. A's element
+    /// What a tile's accumulators start from.
+    #[derive(Clone, Copy)]
+    enum TileStart {
+        Zero,
+        /// C's current values.
+        Load,
+        /// The same row of biases for every row.
+        Bias(*const f64),
+    }
+
+    /// C[..mr, ..nr] = `start` + A_tile · B_panel over `kc`, C with row stride `ldc`. A's element
     /// (r, kk) is at `a[r * a_stride + kk]` when `ROWS_CONTIGUOUS` (a row-major operand),
     /// else at `a[kk * a_stride + r]` (a transposed one, or the packed panel).
+    #[allow(clippy::too_many_arguments)]
     #[target_feature(enable = "avx512f")]
     #[inline]
     unsafe fn kernel<const ROWS_CONTIGUOUS: bool>(
@@ -273,17 +446,33 @@ mod avx512 {
         c: *mut f64,
         ldc: usize,
         (mr, nr): (usize, usize),
+        start: TileStart,
     ) {
         let lanes = |count: usize| -> __mmask8 { ((1u32 << count.min(8)) - 1) as __mmask8 };
         let (mask_lo, mask_hi) = (lanes(nr), lanes(nr.saturating_sub(8)));
         let mut acc = [[_mm512_setzero_pd(); 2]; MR];
-        for (r, row) in acc.iter_mut().enumerate().take(mr) {
-            // Masked lanes are never read, so the pointers may run past C's end.
-            let c_row = c.wrapping_add(r * ldc);
-            // SAFETY: the unmasked lanes are C's elements (r, ..nr).
-            unsafe {
-                row[0] = _mm512_maskz_loadu_pd(mask_lo, c_row);
-                row[1] = _mm512_maskz_loadu_pd(mask_hi, c_row.wrapping_add(8));
+        match start {
+            TileStart::Zero => {}
+            TileStart::Load => {
+                for (r, row) in acc.iter_mut().enumerate().take(mr) {
+                    // Masked lanes are never read, so the pointers may run past C's end.
+                    let c_row = c.wrapping_add(r * ldc);
+                    // SAFETY: the unmasked lanes are C's elements (r, ..nr).
+                    unsafe {
+                        row[0] = _mm512_maskz_loadu_pd(mask_lo, c_row);
+                        row[1] = _mm512_maskz_loadu_pd(mask_hi, c_row.wrapping_add(8));
+                    }
+                }
+            }
+            TileStart::Bias(bias) => {
+                // SAFETY: the unmasked lanes are the biases of columns ..nr.
+                let (lo, hi) = unsafe {
+                    (
+                        _mm512_maskz_loadu_pd(mask_lo, bias),
+                        _mm512_maskz_loadu_pd(mask_hi, bias.wrapping_add(8)),
+                    )
+                };
+                acc.iter_mut().for_each(|row| *row = [lo, hi]);
             }
         }
         let rows: [*const f64; MR] = std::array::from_fn(|r| a.wrapping_add(r * a_stride));

@@ -17,7 +17,7 @@ use burn::tensor::backend::Backend;
 use rayon::prelude::*;
 
 use crate::flat::params_to_vec;
-use crate::gemm::gemm;
+use crate::gemm::{Finish, Start, gemm, gemm_to_vec};
 use crate::mlp::{Mlp, tanh_f64_in_place};
 
 /// Whether `B` is the default CPU backend (`NdArray<f64>`), whose hot loops run here.
@@ -137,10 +137,11 @@ impl HostMlp {
         for i in 0..self.layers() {
             let (w, b) = self.layer(&self.params, i);
             let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
-            let mut z = b.repeat(rows);
-            if rows <= SMALL_ROWS {
-                // Acting (a row or two per call): dgemm's packing of W would cost more
-                // than the product itself.
+            let hidden = i + 1 < self.layers();
+            let z = if rows <= SMALL_ROWS {
+                // Acting (a row or two per call): packing W would cost more than the
+                // product itself.
+                let mut z = b.repeat(rows);
                 for (x, z) in acts[i]
                     .chunks_exact(fan_in)
                     .zip(z.chunks_exact_mut(fan_out))
@@ -149,20 +150,21 @@ impl HostMlp {
                         z.iter_mut().zip(w_row).for_each(|(zj, wj)| *zj += xk * wj);
                     }
                 }
+                if hidden {
+                    tanh_f64_in_place(&mut z);
+                }
+                z
             } else {
-                gemm(
+                gemm_to_vec(
                     (rows, fan_in, fan_out),
                     &acts[i],
                     (fan_in, 1),
                     w,
                     (fan_out, 1),
-                    &mut z,
-                    true,
-                );
-            }
-            if i + 1 < self.layers() {
-                tanh_f64_in_place(&mut z);
-            }
+                    Start::Bias(b),
+                    if hidden { Finish::Tanh } else { Finish::None },
+                )
+            };
             acts.push(z);
         }
         acts
@@ -191,15 +193,24 @@ impl HostMlp {
                     let (w, _) = self.layer(&self.params, i);
                     let (dw, db) = self.layer(tangent, i);
                     let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
-                    let mut dz = db.repeat(rows);
-                    gemm(
+                    // Through this layer's tanh (not after the output layer).
+                    let finish = if i + 1 < self.layers() {
+                        Finish::TanhDerivative(&acts[i + 1])
+                    } else {
+                        Finish::None
+                    };
+                    let mut dz = gemm_to_vec(
                         (rows, fan_in, fan_out),
                         &acts[i],
                         (fan_in, 1),
                         dw,
                         (fan_out, 1),
-                        &mut dz,
-                        true,
+                        Start::Bias(db),
+                        if d_input.is_some() {
+                            Finish::None
+                        } else {
+                            finish
+                        },
                     );
                     if let Some(dx) = &d_input {
                         gemm(
@@ -209,13 +220,9 @@ impl HostMlp {
                             w,
                             (fan_out, 1),
                             &mut dz,
-                            true,
+                            Start::Accumulate,
+                            finish,
                         );
-                    }
-                    if i + 1 < self.layers() {
-                        for (d, h) in dz.iter_mut().zip(&acts[i + 1]) {
-                            *d *= 1.0 - h * h;
-                        }
                     }
                     d_input = Some(dz);
                 }
@@ -263,7 +270,8 @@ impl HostMlp {
                 &dz,
                 (fan_out, 1),
                 gw,
-                false,
+                Start::Zero,
+                Finish::None,
             );
             for row in dz.chunks_exact(fan_out) {
                 gb.iter_mut().zip(row).for_each(|(g, d)| *g += d);
@@ -271,20 +279,15 @@ impl HostMlp {
             if i > 0 {
                 // dx = dz·Wᵀ, then through the previous layer's tanh.
                 let (w, _) = self.layer(&self.params, i);
-                let mut dx = vec![0.0; rows * fan_in];
-                gemm(
+                dz = gemm_to_vec(
                     (rows, fan_out, fan_in),
                     &dz,
                     (fan_out, 1),
                     w,
                     (1, fan_out),
-                    &mut dx,
-                    false,
+                    Start::Zero,
+                    Finish::TanhDerivative(&acts[i]),
                 );
-                for (d, h) in dx.iter_mut().zip(&acts[i]) {
-                    *d *= 1.0 - h * h;
-                }
-                dz = dx;
             }
         }
         grad

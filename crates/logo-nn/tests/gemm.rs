@@ -2,7 +2,7 @@
 //! against matrixmultiply, over the shapes that exercise its edges: partial micro-tiles
 //! in m and n, k crossing the packing chunk, transposed operands, accumulate or not.
 
-use logo_nn::gemm::{gemm, gemm_portable};
+use logo_nn::gemm::{Finish, Start, gemm, gemm_portable, gemm_to_vec};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -31,6 +31,14 @@ fn reference(
         }
     }
     scale
+}
+
+fn start(accumulate: bool) -> Start<'static> {
+    if accumulate {
+        Start::Accumulate
+    } else {
+        Start::Zero
+    }
 }
 
 #[test]
@@ -62,9 +70,27 @@ fn gemm_matches_the_definition_on_every_edge() {
                     let mut expected = c0.clone();
                     let scale = reference((m, k, n), &a, sa, &b, sb, &mut expected, accumulate);
                     let mut fast = c0.clone();
-                    gemm((m, k, n), &a, sa, &b, sb, &mut fast, accumulate);
+                    gemm(
+                        (m, k, n),
+                        &a,
+                        sa,
+                        &b,
+                        sb,
+                        &mut fast,
+                        start(accumulate),
+                        Finish::None,
+                    );
                     let mut portable = c0.clone();
-                    gemm_portable((m, k, n), &a, sa, &b, sb, &mut portable, accumulate);
+                    gemm_portable(
+                        (m, k, n),
+                        &a,
+                        sa,
+                        &b,
+                        sb,
+                        &mut portable,
+                        start(accumulate),
+                        Finish::None,
+                    );
                     for (name, got) in [("gemm", &fast), ("gemm_portable", &portable)] {
                         for idx in 0..m * n {
                             let err = (got[idx] - expected[idx]).abs();
@@ -99,8 +125,112 @@ fn gemm_writes_only_its_output() {
         &b,
         (n, 1),
         &mut buffer[..m * n],
-        false,
+        Start::Zero,
+        Finish::None,
     );
     assert!(buffer[..m * n].iter().all(|&v| v == k as f64));
     assert!(buffer[m * n..].iter().all(|&v| v == -3.0));
+}
+
+#[test]
+fn bias_and_tanh_finishes_match_the_separate_passes() {
+    // Start::Bias then Finish::Tanh == bias + A·B then tanh; Finish::TanhDerivative(h)
+    // == (A·B) ⊙ (1 − h²); on shapes with partial tiles, both kernels.
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for &(m, k, n) in &[(13, 130, 17), (256, 128, 128), (300, 11, 1), (5, 0, 9)] {
+        let a: Vec<f64> = (0..m * k).map(|_| rng.random_range(-0.3..0.3)).collect();
+        let b: Vec<f64> = (0..k * n).map(|_| rng.random_range(-0.3..0.3)).collect();
+        let bias: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+        let h: Vec<f64> = (0..m * n).map(|_| rng.random_range(-1.0..1.0)).collect();
+        let mut product = vec![0.0; m * n];
+        let scale = reference((m, k, n), &a, (k, 1), &b, (n, 1), &mut product, false);
+        let pre: Vec<f64> = product
+            .iter()
+            .enumerate()
+            .map(|(i, p)| p + bias[i % n])
+            .collect();
+        let tanh: Vec<f64> = pre.iter().map(|z| z.tanh()).collect();
+        let back: Vec<f64> = product
+            .iter()
+            .zip(&h)
+            .map(|(p, h)| p * (1.0 - h * h))
+            .collect();
+        type Gemm = fn(
+            (usize, usize, usize),
+            &[f64],
+            (usize, usize),
+            &[f64],
+            (usize, usize),
+            &mut [f64],
+            Start,
+            Finish,
+        );
+        for (name, f) in [
+            ("gemm", gemm as Gemm),
+            ("gemm_portable", gemm_portable as Gemm),
+        ] {
+            let mut got = vec![f64::NAN; m * n];
+            f(
+                (m, k, n),
+                &a,
+                (k, 1),
+                &b,
+                (n, 1),
+                &mut got,
+                Start::Bias(&bias),
+                Finish::Tanh,
+            );
+            for i in 0..m * n {
+                assert!(
+                    (got[i] - tanh[i]).abs() <= 1e-14 * (scale[i] + 2.0),
+                    "{name} tanh {m}x{k}x{n} at {i}"
+                );
+            }
+            let mut got = vec![f64::NAN; m * n];
+            f(
+                (m, k, n),
+                &a,
+                (k, 1),
+                &b,
+                (n, 1),
+                &mut got,
+                Start::Zero,
+                Finish::TanhDerivative(&h),
+            );
+            for i in 0..m * n {
+                assert!(
+                    (got[i] - back[i]).abs() <= 1e-14 * (scale[i] + 1.0),
+                    "{name} tanh' {m}x{k}x{n} at {i}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn gemm_to_vec_equals_gemm_into_a_zeroed_buffer() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for &(m, k, n) in &[
+        (13, 300, 17),
+        (256, 128, 128),
+        (7, 11, 1),
+        (4, 0, 5),
+        (0, 3, 4),
+    ] {
+        for transposed_a in [false, true] {
+            let sa = if transposed_a { (1, m) } else { (k, 1) };
+            let a: Vec<f64> = (0..m * k).map(|_| rng.random_range(-0.5..0.5)).collect();
+            let b: Vec<f64> = (0..k * n).map(|_| rng.random_range(-0.5..0.5)).collect();
+            let bias: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+            for (start, finish) in [
+                (Start::Zero, Finish::None),
+                (Start::Bias(&bias), Finish::Tanh),
+            ] {
+                let mut expected = vec![0.0; m * n];
+                gemm((m, k, n), &a, sa, &b, (n, 1), &mut expected, start, finish);
+                let got = gemm_to_vec((m, k, n), &a, sa, &b, (n, 1), start, finish);
+                assert_eq!(got, expected, "{m}x{k}x{n} transposed_a={transposed_a}");
+            }
+        }
+    }
 }
