@@ -1,13 +1,14 @@
 //! One LOGO iteration, top to bottom (Algorithm 1 of the paper, as the reference runs it):
 //!
 //! 1. collect whole episodes with π_k (sparse rewards);
-//! 2. env critic: GAE advantages with the current V, then fit V to the returns;
-//! 3. improvement step: TRPO on the normalised advantages, KL ≤ δ → π_{k+½};
-//! 4. δ_k schedule on the batch's mean sparse return;
-//! 5. guidance (while δ_k > floor): r_C = −log D(s,a) from last iteration's D (or
-//!    log π_b − log π_k), guidance critic and GAE, a second TRPO step on the same batch
-//!    with the ratio against π_k and KL ≤ δ_k → π_{k+1}; then one discriminator update;
-//! 6. evaluation on the dense env with the mean action; metrics; checkpoint.
+//! 2. GAE advantages with the critics as they stand: env reward, and (while δ_k, updated
+//!    on the batch's mean sparse return, is above its floor) r_C = −log D(s,a) from last
+//!    iteration's D (or log π_b − log π_k) with the guidance critic;
+//! 3. fit both critics to their returns — beside steps 4-6, which do not need them;
+//! 4. improvement step: TRPO on the normalised advantages, KL ≤ δ → π_{k+½};
+//! 5. guidance step: a second TRPO step on the same batch with the ratio against π_k and
+//!    KL ≤ δ_k → π_{k+1}; then one discriminator update;
+//! 6. evaluation on the dense env with the mean action; then metrics and checkpoint.
 //!
 //! Without `[guidance]` in the config it is plain TRPO.
 
@@ -157,6 +158,23 @@ fn advantages<B: Backend>(
         config.cross_episode_bootstrap,
     );
     (normalise(&adv), returns)
+}
+
+/// Seconds between laps, for the per-phase times.
+struct Stopwatch(Instant);
+
+impl Stopwatch {
+    fn start() -> Self {
+        Self(Instant::now())
+    }
+
+    /// Seconds since the start or the previous lap.
+    fn lap(&mut self) -> f64 {
+        let now = Instant::now();
+        let seconds = (now - self.0).as_secs_f64();
+        self.0 = now;
+        seconds
+    }
 }
 
 /// Fits `critic` to `returns`; its mean final loss.
@@ -411,13 +429,7 @@ impl<B: AutodiffBackend> Trainer<B> {
     pub fn step(&mut self) -> Result<IterationMetrics, TrainError> {
         let k = self.iteration;
         let mut time = PhaseTimes::default();
-        let mut clock = Instant::now();
-        let mut lap = || {
-            let now = Instant::now();
-            let dt = (now - clock).as_secs_f64();
-            clock = now;
-            dt
-        };
+        let mut clock = Stopwatch::start();
         // 1. Collect with π_k.
         let batch = self.sampler.collect(
             &mut self.venv,
@@ -425,7 +437,7 @@ impl<B: AutodiffBackend> Trainer<B> {
             &mut self.rng,
             self.config.samples_per_iter,
         )?;
-        time.sampling = lap();
+        time.sampling = clock.lap();
         let n = batch.len();
         let obs = from_f64::<Inner<B>, 2>(&batch.obs, [n, batch.obs_dim], &self.device);
         let actions = from_f64::<Inner<B>, 2>(&batch.actions, [n, batch.act_dim], &self.device);
@@ -453,7 +465,7 @@ impl<B: AutodiffBackend> Trainer<B> {
                 guidance_batch = Some(advantages(&self.config, &g.critic, &batch, &rewards, &obs));
             }
         }
-        time.critics = lap();
+        time.critics = clock.lap();
         self.iteration += 1;
         self.samples += n;
         let evaluate_now = k.is_multiple_of(self.config.eval_every) || self.done();
@@ -475,7 +487,7 @@ impl<B: AutodiffBackend> Trainer<B> {
             None => (None, None),
         };
         let fit_critics = || {
-            let clock = Instant::now();
+            let mut clock = Stopwatch::start();
             let (env_loss, _) = rayon::join(
                 || fit_critic(config, critic, &obs, &returns),
                 || {
@@ -484,18 +496,12 @@ impl<B: AutodiffBackend> Trainer<B> {
                     }
                 },
             );
-            (env_loss, clock.elapsed().as_secs_f64())
+            (env_loss, clock.lap())
         };
         let steps = || -> Result<_, TrainError> {
             let mut times = PhaseTimes::default();
-            let mut clock = Instant::now();
-            let mut lap = || {
-                let now = Instant::now();
-                let dt = (now - clock).as_secs_f64();
-                clock = now;
-                dt
-            };
-            // 3. Improvement step.
+            let mut clock = Stopwatch::start();
+            // 4. Improvement step.
             let (next, improvement) = trpo_step(
                 policy.clone(),
                 &data,
@@ -504,7 +510,7 @@ impl<B: AutodiffBackend> Trainer<B> {
                 &config.policy_step,
             );
             *policy = next;
-            times.policy_step = lap();
+            times.policy_step = clock.lap();
             // 5. Guidance step on the same batch, then the discriminator update.
             let (mut guidance_kl, mut disc_loss) = (0.0, f64::NAN);
             if let Some((adv_c, _)) = &guidance_batch {
@@ -512,14 +518,14 @@ impl<B: AutodiffBackend> Trainer<B> {
                     trpo_step(policy.clone(), &data, adv_c, delta_k, &config.policy_step);
                 *policy = next;
                 guidance_kl = stats.kl;
-                times.guidance = lap();
+                times.guidance = clock.lap();
                 if let Some(GuidanceSignal::Discriminator(d)) = guidance_signal.as_deref_mut() {
                     disc_loss = d.update(
                         Tensor::from_inner(obs.clone()),
                         Tensor::from_inner(actions.clone()),
                     );
                 }
-                times.discriminator = lap();
+                times.discriminator = clock.lap();
             }
             // 6. Evaluate.
             let eval = if evaluate_now {
@@ -527,7 +533,7 @@ impl<B: AutodiffBackend> Trainer<B> {
             } else {
                 f64::NAN
             };
-            times.evaluation = lap();
+            times.evaluation = clock.lap();
             Ok((improvement, guidance_kl, disc_loss, eval, times))
         };
         let ((critic_loss, fit_time), stepped) = rayon::join(fit_critics, steps);
