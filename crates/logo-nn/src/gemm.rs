@@ -58,33 +58,30 @@ pub fn gemm(
         finish,
         c.len(),
     );
-    if n == 1 || k == 0 {
-        // A single output column (a value net's last layer, a 1-D policy's mean): a
-        // 16-wide tile would waste 15 of its lanes.
-        begin(&mut c[..m * n], start);
-        gemv((m, k, n), a, a_strides, b, b_strides.0, c);
-        end(&mut c[..m * n], finish);
-        return;
-    }
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f") {
-        // SAFETY: the CPU has AVX-512F (checked just above) and `check_operands` keeps
-        // every index the kernel reads or writes inside the slices.
+    if kernel_applies(k, n) {
+        // SAFETY: the kernel applies (the CPU has AVX-512F) and `check_operands` keeps
+        // every index it reads or writes inside the slices; C is initialised.
         unsafe {
-            avx512::gemm(
+            kernel(
                 (m, k, n),
-                a.as_ptr(),
+                a,
                 a_strides,
-                b.as_ptr(),
+                b,
                 b_strides,
                 c.as_mut_ptr(),
                 start,
                 finish,
             )
         };
-        return;
+    } else if n == 1 || k == 0 {
+        // A single output column (a value net's last layer, a 1-D policy's mean): a
+        // 16-wide tile would waste 15 of its lanes.
+        begin(&mut c[..m * n], start);
+        gemv((m, k, n), a, a_strides, b, b_strides.0, c);
+        end(&mut c[..m * n], finish);
+    } else {
+        gemm_portable((m, k, n), a, a_strides, b, b_strides, c, start, finish);
     }
-    gemm_portable((m, k, n), a, a_strides, b, b_strides, c, start, finish);
 }
 
 /// [`gemm`] into a new `m × n` buffer; `start` is `Zero` or `Bias`. Where the AVX-512
@@ -104,32 +101,74 @@ pub fn gemm_to_vec(
         !matches!(start, Start::Accumulate),
         "a new buffer has nothing to accumulate into"
     );
-    #[cfg(target_arch = "x86_64")]
-    if n > 1 && k > 0 && std::arch::is_x86_feature_detected!("avx512f") {
-        let mut c = Vec::with_capacity(m * n);
-        // The capacity is m × n; check_operands reads only its length.
-        check_operands((m, k, n), a, a_strides, b, b_strides, start, finish, m * n);
-        // SAFETY: the CPU has AVX-512F; the operands passed check_operands; C has room
-        // for m × n elements and, starting from Zero or Bias, the kernel writes each of
-        // them before reading it, so all m × n are initialised when set_len runs.
-        unsafe {
-            avx512::gemm(
-                (m, k, n),
-                a.as_ptr(),
-                a_strides,
-                b.as_ptr(),
-                b_strides,
-                c.as_mut_ptr(),
-                start,
-                finish,
-            );
-            c.set_len(m * n);
-        }
+    if !kernel_applies(k, n) {
+        let mut c = vec![0.0; m * n];
+        gemm((m, k, n), a, a_strides, b, b_strides, &mut c, start, finish);
         return c;
     }
-    let mut c = vec![0.0; m * n];
-    gemm((m, k, n), a, a_strides, b, b_strides, &mut c, start, finish);
+    let mut c = Vec::with_capacity(m * n);
+    // The capacity is m × n; check_operands reads only its length.
+    check_operands((m, k, n), a, a_strides, b, b_strides, start, finish, m * n);
+    // SAFETY: the kernel applies; the operands passed check_operands; C has room for m × n
+    // elements and, starting from Zero or Bias, the kernel writes each of them before
+    // reading it, so all m × n are initialised when set_len runs.
+    unsafe {
+        kernel(
+            (m, k, n),
+            a,
+            a_strides,
+            b,
+            b_strides,
+            c.as_mut_ptr(),
+            start,
+            finish,
+        );
+        c.set_len(m * n);
+    }
     c
+}
+
+/// Whether the AVX-512 kernel computes a product with these sizes: the CPU has it, and
+/// there is more than one output column and something to sum.
+fn kernel_applies(k: usize, n: usize) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return n > 1 && k > 0 && std::arch::is_x86_feature_detected!("avx512f");
+    #[cfg(not(target_arch = "x86_64"))]
+    return false;
+}
+
+/// # Safety
+/// As `avx512::gemm`, and only where [`kernel_applies`].
+#[allow(clippy::too_many_arguments)]
+unsafe fn kernel(
+    dims: (usize, usize, usize),
+    a: &[f64],
+    a_strides: (usize, usize),
+    b: &[f64],
+    b_strides: (usize, usize),
+    c: *mut f64,
+    start: Start,
+    finish: Finish,
+) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: passed on from the caller.
+    unsafe {
+        avx512::gemm(
+            dims,
+            a.as_ptr(),
+            a_strides,
+            b.as_ptr(),
+            b_strides,
+            c,
+            start,
+            finish,
+        )
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (dims, a, a_strides, b, b_strides, c, start, finish);
+        unreachable!("kernel_applies is false off x86-64");
+    }
 }
 
 /// C = `start` (all of C).
