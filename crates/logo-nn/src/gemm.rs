@@ -1,9 +1,10 @@
-//! C = A·B (+ C) in f64 for the host MLP: an AVX-512 kernel where the CPU has it,
-//! matrixmultiply's portable dgemm elsewhere.
+//! C = start + A·B, then a finish (tanh, ⊙(1 − h²)), in f64 for the host MLP: an
+//! AVX-512 kernel where the CPU has it, matrixmultiply's portable dgemm elsewhere, and
+//! direct loops for a few rows (acting) or one output column.
 //!
 //! Why a kernel of our own: the critic fits are two dozen forward and reverse passes of a
 //! 128-128 net over 20k rows per reward stream. matrixmultiply packs both operands on
-//! every call, and here one of them is always a 1024-row block of activations: its
+//! every call, and here one of them is always a block of activations: its
 //! packing was a fifth of its time in a Hopper iteration's profile. The kernel below
 //! reads A in place (row-major or transposed), packs only B (a weight matrix or one
 //! block's upstream gradients) and runs 12 × 16 tiles of AVX-512 fused multiply-adds.
@@ -58,7 +59,7 @@ pub fn gemm(
         finish,
         c.len(),
     );
-    if kernel_applies(k, n) {
+    if kernel_applies(m, k, n) {
         // SAFETY: the kernel applies (the CPU has AVX-512F) and `check_operands` keeps
         // every index it reads or writes inside the slices; C is initialised.
         unsafe {
@@ -73,12 +74,17 @@ pub fn gemm(
                 finish,
             )
         };
+    } else if m <= SMALL_ROWS && b_strides.1 == 1 {
+        // Acting (a row or two per call): packing B would cost more than the product.
+        begin(&mut c[..m * n], start);
+        small_rows((m, k, n), a, a_strides, b, b_strides.0, c);
+        end_at(&mut c[..m * n], finish, 0);
     } else if n == 1 || k == 0 {
         // A single output column (a value net's last layer, a 1-D policy's mean): a
         // 16-wide tile would waste 15 of its lanes.
         begin(&mut c[..m * n], start);
-        gemv((m, k, n), a, a_strides, b, b_strides.0, c);
-        end(&mut c[..m * n], finish);
+        gemv((m, k), a, a_strides, b, b_strides.0, c);
+        end_at(&mut c[..m * n], finish, 0);
     } else {
         gemm_portable((m, k, n), a, a_strides, b, b_strides, c, start, finish);
     }
@@ -101,7 +107,7 @@ pub fn gemm_to_vec(
         !matches!(start, Start::Accumulate),
         "a new buffer has nothing to accumulate into"
     );
-    if !kernel_applies(k, n) {
+    if !kernel_applies(m, k, n) {
         let mut c = vec![0.0; m * n];
         gemm((m, k, n), a, a_strides, b, b_strides, &mut c, start, finish);
         return c;
@@ -128,13 +134,20 @@ pub fn gemm_to_vec(
     c
 }
 
+/// Up to this many rows of C, [`gemm`] multiplies directly (when B's rows are
+/// contiguous) instead of packing B for the kernel.
+const SMALL_ROWS: usize = 4;
+
 /// Whether the AVX-512 kernel computes a product with these sizes: the CPU has it, and
-/// there is more than one output column and something to sum.
-fn kernel_applies(k: usize, n: usize) -> bool {
+/// there are more than a few rows, more than one output column and something to sum.
+fn kernel_applies(m: usize, k: usize, n: usize) -> bool {
     #[cfg(target_arch = "x86_64")]
-    return n > 1 && k > 0 && std::arch::is_x86_feature_detected!("avx512f");
+    return m > SMALL_ROWS && n > 1 && k > 0 && std::arch::is_x86_feature_detected!("avx512f");
     #[cfg(not(target_arch = "x86_64"))]
-    return false;
+    return {
+        let _ = (m, k, n);
+        false
+    };
 }
 
 /// # Safety
@@ -194,15 +207,11 @@ fn end_at(c: &mut [f64], finish: Finish, offset: usize) {
     }
 }
 
-fn end(c: &mut [f64], finish: Finish) {
-    end_at(c, finish, 0);
-}
-
 /// c (`m`) += A·b, the `n = 1` case of [`gemm`]: dot products along A's rows when
 /// they are contiguous, otherwise c += b_p · A[:, p] column by column (A transposed).
 /// (`k = 0` comes here too: nothing to add.)
 fn gemv(
-    (m, k, n): (usize, usize, usize),
+    (m, k): (usize, usize),
     a: &[f64],
     (rsa, csa): (usize, usize),
     b: &[f64],
@@ -212,7 +221,6 @@ fn gemv(
     if k == 0 || m == 0 {
         return;
     }
-    debug_assert_eq!(n, 1);
     let c = &mut c[..m];
     if csa == 1 && b_stride == 1 {
         for (i, ci) in c.iter_mut().enumerate() {
@@ -243,6 +251,27 @@ fn gemv(
             *ci += (0..k)
                 .map(|p| a[i * rsa + p * csa] * b[p * b_stride])
                 .sum::<f64>();
+        }
+    }
+}
+
+/// C += A·B for a few rows, B's rows contiguous (stride `rsb`): each row of C gathers
+/// a_ip · B[p, :] over p in order, vectorised across the n columns.
+fn small_rows(
+    (m, k, n): (usize, usize, usize),
+    a: &[f64],
+    (rsa, csa): (usize, usize),
+    b: &[f64],
+    rsb: usize,
+    c: &mut [f64],
+) {
+    for (i, c_row) in c[..m * n].chunks_exact_mut(n).enumerate() {
+        for p in 0..k {
+            let (a_ip, b_row) = (a[i * rsa + p * csa], &b[p * rsb..p * rsb + n]);
+            c_row
+                .iter_mut()
+                .zip(b_row)
+                .for_each(|(cj, bj)| *cj += a_ip * bj);
         }
     }
 }
@@ -290,7 +319,7 @@ pub fn gemm_portable(
             1,
         );
     }
-    end(&mut c[..m * n], finish);
+    end_at(&mut c[..m * n], finish, 0);
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -18,20 +18,17 @@ use rayon::prelude::*;
 
 use crate::flat::params_to_vec;
 use crate::gemm::{Finish, Start, gemm, gemm_to_vec};
-use crate::mlp::{Mlp, tanh_f64_in_place};
+use crate::mlp::Mlp;
 
 /// Whether `B` is the default CPU backend (`NdArray<f64>`), whose hot loops run here.
 pub fn is_host_backend<B: Backend>() -> bool {
     std::any::TypeId::of::<B>() == std::any::TypeId::of::<crate::Cpu>()
 }
 
-/// Rows per block: small enough that one block's activations (1024 × 128 × 8 B = 1 MiB)
-/// stay in a 2 MiB L2 cache while the next layer reads them, large enough for dgemm to
-/// run at full speed.
+/// Rows per block: small enough that a block's activations (256 × 128 × 8 B = 256 KiB
+/// each) stay in a core's 1 MiB L2 while the next layer reads them, and that a 5k-row
+/// batch splits evenly over two threads; large enough for the GEMM to run at full speed.
 const BLOCK_ROWS: usize = 256;
-
-/// Up to this many rows, the forward pass multiplies directly instead of calling dgemm.
-const SMALL_ROWS: usize = 4;
 
 /// An MLP's layer sizes and flat parameters, laid out as [`crate::flat::params_to_vec`]
 /// lays out an [`Mlp`]: for each layer, weight `[in, out]` row-major, then bias `[out]`.
@@ -138,33 +135,15 @@ impl HostMlp {
             let (w, b) = self.layer(&self.params, i);
             let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
             let hidden = i + 1 < self.layers();
-            let z = if rows <= SMALL_ROWS {
-                // Acting (a row or two per call): packing W would cost more than the
-                // product itself.
-                let mut z = b.repeat(rows);
-                for (x, z) in acts[i]
-                    .chunks_exact(fan_in)
-                    .zip(z.chunks_exact_mut(fan_out))
-                {
-                    for (xk, w_row) in x.iter().zip(w.chunks_exact(fan_out)) {
-                        z.iter_mut().zip(w_row).for_each(|(zj, wj)| *zj += xk * wj);
-                    }
-                }
-                if hidden {
-                    tanh_f64_in_place(&mut z);
-                }
-                z
-            } else {
-                gemm_to_vec(
-                    (rows, fan_in, fan_out),
-                    &acts[i],
-                    (fan_in, 1),
-                    w,
-                    (fan_out, 1),
-                    Start::Bias(b),
-                    if hidden { Finish::Tanh } else { Finish::None },
-                )
-            };
+            let z = gemm_to_vec(
+                (rows, fan_in, fan_out),
+                &acts[i],
+                (fan_in, 1),
+                w,
+                (fan_out, 1),
+                Start::Bias(b),
+                if hidden { Finish::Tanh } else { Finish::None },
+            );
             acts.push(z);
         }
         acts
