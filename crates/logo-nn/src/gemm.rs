@@ -91,7 +91,16 @@ pub fn gemm(
         // A single output column (a value net's last layer, a 1-D policy's mean): a
         // 16-wide tile would waste 15 of its lanes.
         begin(&mut c[..m * n], start);
-        if avx512_available() {
+        if avx512_available() && n == 1 && a_strides.0 == 1 && k > 0 {
+            // c = Aᵀ's rows weighted by b: as a one-row product bᵀ·Aᵀ, whose rows are
+            // A's contiguous columns (the same multiplies and adds in the same order).
+            // SAFETY: the CPU has AVX-512F; bᵀ (1 × k, stride b_stride) and Aᵀ (k × m,
+            // rows at a_strides.1) hold what A and b held.
+            #[cfg(target_arch = "x86_64")]
+            unsafe {
+                avx512::small_rows((1, k, m), b, (0, b_strides.0), a, a_strides.1, c)
+            };
+        } else if avx512_available() {
             // SAFETY: the CPU has AVX-512F.
             #[cfg(target_arch = "x86_64")]
             unsafe {
@@ -640,7 +649,13 @@ mod avx512 {
         match start {
             TileStart::Zero => {}
             TileStart::Load => {
-                for (r, row) in acc.iter_mut().enumerate().take(mr) {
+                // Over all MR rows with a test (not `take(mr)`): a loop of constant length
+                // is unrolled and the accumulators stay in registers instead of going
+                // through the stack around the product.
+                for (r, row) in acc.iter_mut().enumerate() {
+                    if r >= mr {
+                        continue;
+                    }
                     // Masked lanes are never read, so the pointers may run past C's end.
                     let c_row = c.wrapping_add(r * ldc);
                     // SAFETY: the unmasked lanes are C's elements (r, ..nr).
@@ -682,7 +697,10 @@ mod avx512 {
                 }
             }
         }
-        for (r, row) in acc.iter().enumerate().take(mr) {
+        for (r, row) in acc.iter().enumerate() {
+            if r >= mr {
+                continue;
+            }
             let c_row = c.wrapping_add(r * ldc);
             // SAFETY: the unmasked lanes are C's elements (r, ..nr).
             unsafe {

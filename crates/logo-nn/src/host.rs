@@ -219,11 +219,27 @@ impl HostMlp {
             trace.rows * self.output_dim(),
             "upstream of the wrong shape"
         );
+        // Wᵀ of every layer past the first, once per call: each block's dz·Wᵀ then reads
+        // a row-major operand, which the GEMM packs with vector copies instead of
+        // gathering Wᵀ's columns element by element for every block.
+        let transposed: Vec<Vec<f64>> = (1..self.layers())
+            .map(|i| {
+                let (w, _) = self.layer(&self.params, i);
+                let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
+                let mut wt = vec![0.0; fan_in * fan_out];
+                for (r, row) in w.chunks_exact(fan_out).enumerate() {
+                    for (o, value) in row.iter().enumerate() {
+                        wt[o * fan_in + r] = *value;
+                    }
+                }
+                wt
+            })
+            .collect();
         let per_block: Vec<Vec<f64>> = trace
             .blocks
             .par_iter()
             .zip(upstream.par_chunks(BLOCK_ROWS * self.output_dim()))
-            .map(|(acts, upstream)| self.vjp_block(acts, upstream))
+            .map(|(acts, upstream)| self.vjp_block(acts, upstream, &transposed))
             .collect();
         let mut grad = vec![0.0; self.num_params()];
         for block in &per_block {
@@ -232,7 +248,8 @@ impl HostMlp {
         grad
     }
 
-    fn vjp_block(&self, acts: &[Vec<f64>], upstream: &[f64]) -> Vec<f64> {
+    /// `transposed[i - 1]` is layer i's Wᵀ (`[out, in]` row-major).
+    fn vjp_block(&self, acts: &[Vec<f64>], upstream: &[f64], transposed: &[Vec<f64>]) -> Vec<f64> {
         let rows = acts[0].len() / self.input_dim();
         let mut grad = vec![0.0; self.num_params()];
         let mut dz = upstream.to_vec();
@@ -257,13 +274,12 @@ impl HostMlp {
             }
             if i > 0 {
                 // dx = dz·Wᵀ, then through the previous layer's tanh.
-                let (w, _) = self.layer(&self.params, i);
                 dz = gemm_to_vec(
                     (rows, fan_out, fan_in),
                     &dz,
                     (fan_out, 1),
-                    w,
-                    (1, fan_out),
+                    &transposed[i - 1],
+                    (fan_in, 1),
                     Start::Zero,
                     Finish::TanhDerivative(&acts[i]),
                 );

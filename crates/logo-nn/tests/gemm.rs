@@ -45,7 +45,7 @@ fn start(accumulate: bool) -> Start<'static> {
 fn gemm_matches_the_definition_on_every_edge() {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let mut checked = 0;
-    for &(m, k, n) in &[
+    let shapes = [
         (1, 1, 1),
         (12, 256, 16),
         (13, 257, 17),
@@ -58,7 +58,15 @@ fn gemm_matches_the_definition_on_every_edge() {
         (0, 5, 7),
         (25, 600, 3),
         (37, 33, 40),
-    ] {
+        // A few rows (acting): the direct product, columns in and across chunks of 64.
+        (3, 130, 70),
+        (4, 11, 128),
+        (2, 64, 200),
+        // One column with A transposed: the weighted sum of A's columns.
+        (128, 256, 1),
+        (70, 3, 1),
+    ];
+    for &(m, k, n) in &shapes {
         for transposed_a in [false, true] {
             for transposed_b in [false, true] {
                 for accumulate in [false, true] {
@@ -108,7 +116,7 @@ fn gemm_matches_the_definition_on_every_edge() {
             }
         }
     }
-    assert_eq!(checked, 12 * 8);
+    assert_eq!(checked, shapes.len() * 8);
 }
 
 #[test]
