@@ -46,6 +46,20 @@ fn episodes_mode_collects_whole_episodes_past_the_sample_count() {
     let batch = sampler.collect(&mut venv, &policy, &mut rng, 100).unwrap();
     assert!(batch.len() >= 100);
     assert_eq!(batch.episode_end.last(), Some(&true));
+    // The reference's rule: the last episode is the one that took the batch past the
+    // count (each copy's share alone overshoots by up to an episode per copy).
+    for samples in [100, 300, 500] {
+        let batch = sampler
+            .collect(&mut venv, &policy, &mut rng, samples)
+            .unwrap();
+        let ends: Vec<usize> = (0..batch.len()).filter(|&t| batch.episode_end[t]).collect();
+        let before_last = ends.len().checked_sub(2).map_or(0, |i| ends[i] + 1);
+        assert!(batch.len() >= samples);
+        assert!(
+            before_last < samples,
+            "{before_last} steps before the last episode for {samples}"
+        );
+    }
     let ends = batch.episode_end.iter().filter(|e| **e).count();
     assert_eq!(ends, batch.episode_returns.len(), "only whole episodes");
     let total: f64 = batch.rewards.iter().sum();
