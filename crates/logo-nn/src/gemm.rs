@@ -440,10 +440,32 @@ mod avx512 {
                 let (first, last) = (k0 == 0, k0 + kc == k);
                 for i0 in (0..m).step_by(MR) {
                     let mr = MR.min(m - i0);
-                    // A is read in place when its MR rows are whole and one of its
-                    // strides is 1; otherwise (the last rows) copied into a zero-padded
-                    // panel with unit row stride.
-                    let (a_tile, a_rs, a_cs) = if mr == MR && (csa == 1 || rsa == 1) {
+                    // A row-major (a block of activations, the weights' inputs) is read
+                    // in place when its MR rows are whole. A transposed (xᵀ in a weight
+                    // gradient: each step's MR values are contiguous, the steps a row
+                    // apart) is copied into a contiguous kc × MR panel first, with vector
+                    // loads: the kernel then reads one stream instead of kc rows, 3-4%
+                    // faster (alternated in one process), and partial panels cost no
+                    // element-by-element copy. Anything else goes through the
+                    // element-by-element copy below.
+                    let (a_tile, a_rs, a_cs) = if rsa == 1 {
+                        let (lo, hi) = masks(mr.min(MR));
+                        for kk in 0..kc {
+                            let from = a.wrapping_add(i0 + (k0 + kk) * csa);
+                            let to = a_pack[kk * MR..].as_mut_ptr();
+                            // SAFETY: the unmasked lanes are A's (i0..i0 + mr, k0 + kk);
+                            // the panel holds kc rows of MR (12 = 8 + 4 lanes).
+                            unsafe {
+                                _mm512_storeu_pd(to, _mm512_maskz_loadu_pd(lo, from));
+                                _mm512_mask_storeu_pd(
+                                    to.add(8),
+                                    0x0F,
+                                    _mm512_maskz_loadu_pd(hi, from.wrapping_add(8)),
+                                );
+                            }
+                        }
+                        (a_pack.as_ptr(), 1, MR)
+                    } else if mr == MR && csa == 1 {
                         (a.wrapping_add(i0 * rsa + k0 * csa), rsa, csa)
                     } else {
                         for (kk, column) in a_pack[..kc * MR].chunks_exact_mut(MR).enumerate() {
