@@ -59,7 +59,14 @@ pub fn gemm(
         finish,
         c.len(),
     );
-    if kernel_applies(m, k, n) {
+    if outer_applies(k, b_strides, start) {
+        // SAFETY: the CPU has AVX-512F; the operands passed check_operands and B's one
+        // row is contiguous.
+        #[cfg(target_arch = "x86_64")]
+        unsafe {
+            avx512::outer((m, n), a, a_strides.0, b, c, finish)
+        };
+    } else if kernel_applies(m, k, n) {
         // SAFETY: the kernel applies (the CPU has AVX-512F) and `check_operands` keeps
         // every index it reads or writes inside the slices; C is initialised.
         unsafe {
@@ -132,7 +139,7 @@ pub fn gemm_to_vec(
         !matches!(start, Start::Accumulate),
         "a new buffer has nothing to accumulate into"
     );
-    if !kernel_applies(m, k, n) {
+    if !kernel_applies(m, k, n) || outer_applies(k, b_strides, start) {
         let mut c = vec![0.0; m * n];
         gemm((m, k, n), a, a_strides, b, b_strides, &mut c, start, finish);
         return c;
@@ -169,6 +176,13 @@ fn avx512_available() -> bool {
     return std::arch::is_x86_feature_detected!("avx512f");
     #[cfg(not(target_arch = "x86_64"))]
     return false;
+}
+
+/// Whether C = a·bᵀ (k = 1, from zero, B's row contiguous) goes through the outer
+/// product instead of the kernel, whose tiles would each run one step of their loop
+/// between all their set-up (a value net's or a 1-D policy's output layer, backwards).
+fn outer_applies(k: usize, b_strides: (usize, usize), start: Start) -> bool {
+    k == 1 && b_strides.1 == 1 && matches!(start, Start::Zero) && avx512_available()
 }
 
 /// Whether the AVX-512 kernel computes a product with these sizes: the CPU has it, and
@@ -620,6 +634,49 @@ mod avx512 {
                     // SAFETY: as the loads above.
                     unsafe { _mm512_mask_storeu_pd(c_row.wrapping_add(v * 8), mask(v), *acc) };
                 }
+            }
+        }
+    }
+
+    /// C (`m × n`) = a·bᵀ for a column `a` (stride `rsa`) and a contiguous row `b`, then
+    /// `finish`, a row at a time. Each element is fma(a_i, b_j, 0), as the kernel's
+    /// one-step tile computes it (the same bits, the sign of a zero product included).
+    ///
+    /// # Safety
+    /// The CPU must have AVX-512F; the operands must have passed `check_operands` for
+    /// k = 1 with B's column stride 1.
+    #[target_feature(enable = "avx512f")]
+    pub unsafe fn outer(
+        (m, n): (usize, usize),
+        a: &[f64],
+        rsa: usize,
+        b: &[f64],
+        c: &mut [f64],
+        finish: Finish,
+    ) {
+        let zero = _mm512_setzero_pd();
+        let one = _mm512_set1_pd(1.0);
+        for (i, row) in c[..m * n].chunks_exact_mut(n).enumerate() {
+            let a_i = _mm512_set1_pd(a[i * rsa]);
+            for j0 in (0..n).step_by(8) {
+                let mask = ((1u32 << (n - j0).min(8)) - 1) as __mmask8;
+                // SAFETY: the unmasked lanes are B's (0, j0..) and the row's (j0..).
+                unsafe {
+                    let mut v = _mm512_fmadd_pd(
+                        a_i,
+                        _mm512_maskz_loadu_pd(mask, b.as_ptr().wrapping_add(j0)),
+                        zero,
+                    );
+                    if let Finish::TanhDerivative(h) = finish {
+                        // d ⊙ (1 − h²), the operations of `end_at`.
+                        let h = _mm512_maskz_loadu_pd(mask, h.as_ptr().wrapping_add(i * n + j0));
+                        v = _mm512_mul_pd(v, _mm512_sub_pd(one, _mm512_mul_pd(h, h)));
+                    }
+                    _mm512_mask_storeu_pd(row.as_mut_ptr().wrapping_add(j0), mask, v);
+                }
+            }
+            if let Finish::Tanh = finish {
+                crate::mlp::tanh_f64_in_place(row);
             }
         }
     }

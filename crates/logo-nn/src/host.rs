@@ -269,9 +269,19 @@ impl HostMlp {
                 Start::Zero,
                 Finish::None,
             );
-            for row in dz.chunks_exact(fan_out) {
-                gb.iter_mut().zip(row).for_each(|(g, d)| *g += d);
-            }
+            // gb += Σ_rows dz, as the one-row product 1ᵀ·dz (a single 1.0 read with zero
+            // strides): the GEMM's few-rows path keeps gb in registers, and adds the rows
+            // in order, as a plain loop would.
+            gemm(
+                (1, rows, fan_out),
+                &[1.0],
+                (0, 0),
+                &dz,
+                (fan_out, 1),
+                gb,
+                Start::Accumulate,
+                Finish::None,
+            );
             if i > 0 {
                 // dx = dz·Wᵀ, then through the previous layer's tanh.
                 dz = gemm_to_vec(

@@ -65,6 +65,9 @@ fn gemm_matches_the_definition_on_every_edge() {
         // One column with A transposed: the weighted sum of A's columns.
         (128, 256, 1),
         (70, 3, 1),
+        // k = 1: the outer product (from zero) or the kernel (accumulating).
+        (300, 1, 128),
+        (37, 1, 20),
     ];
     for &(m, k, n) in &shapes {
         for transposed_a in [false, true] {
@@ -145,7 +148,15 @@ fn bias_and_tanh_finishes_match_the_separate_passes() {
     // Start::Bias then Finish::Tanh == bias + A·B then tanh; Finish::TanhDerivative(h)
     // == (A·B) ⊙ (1 − h²); on shapes with partial tiles, both kernels.
     let mut rng = ChaCha8Rng::seed_from_u64(11);
-    for &(m, k, n) in &[(13, 130, 17), (256, 128, 128), (300, 11, 1), (5, 0, 9)] {
+    // k = 1 from zero: the outer product (a net's output layer, backwards).
+    for &(m, k, n) in &[
+        (13, 130, 17),
+        (256, 128, 128),
+        (300, 11, 1),
+        (5, 0, 9),
+        (300, 1, 128),
+        (7, 1, 13),
+    ] {
         let a: Vec<f64> = (0..m * k).map(|_| rng.random_range(-0.3..0.3)).collect();
         let b: Vec<f64> = (0..k * n).map(|_| rng.random_range(-0.3..0.3)).collect();
         let bias: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
