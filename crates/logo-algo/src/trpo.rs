@@ -9,7 +9,8 @@ use logo_nn::flat::{flatten_layers, from_f64, params_to_vec, to_f64, vec_to_para
 use logo_nn::host::is_host_backend;
 use logo_nn::policy::{LOG_2PI, gaussian_log_prob};
 use logo_nn::{
-    FisherVectorProduct, GaussianPolicy, HostMlp, HostTrace, conjugate_gradient, mean_kl,
+    FisherVectorProduct, GaussianPolicy, HostMlp, HostTrace, OutputSensitivities,
+    conjugate_gradient, mean_kl,
 };
 use serde::{Deserialize, Serialize};
 
@@ -276,6 +277,7 @@ struct HostObjective {
     logp_old: Vec<f64>,
     advantages: Vec<f64>,
     trace: HostTrace,
+    sensitivities: OutputSensitivities,
     damping: f64,
 }
 
@@ -289,6 +291,7 @@ impl HostObjective {
         let mean_net = HostMlp::from_mlp(&policy.mean);
         let obs = to_f64(data.obs.clone());
         let trace = mean_net.trace(&obs);
+        let sensitivities = mean_net.output_sensitivities(&trace);
         Self {
             mean_net,
             log_std: to_f64(policy.log_std.val()),
@@ -297,6 +300,7 @@ impl HostObjective {
             logp_old: to_f64(data.logp_old.clone()),
             advantages: advantages.to_vec(),
             trace,
+            sensitivities,
             damping,
         }
     }
@@ -368,15 +372,12 @@ impl StepObjective for HostObjective {
 
     /// As [`FisherVectorProduct::apply`]: [Jᵀ M J v_μ / N ; 2 v_logσ] + damping · v.
     fn fisher_vector_product(&self, v: &[f64]) -> Vec<f64> {
-        let act_dim = self.log_std.len();
         let (v_mean, v_log_std) = v.split_at(self.mean_net.num_params());
         let n = self.trace.rows() as f64;
         let scale: Vec<f64> = self.log_std.iter().map(|l| (-2.0 * l).exp() / n).collect();
-        let mut jv = self.mean_net.jvp(&self.trace, v_mean);
-        for row in jv.chunks_exact_mut(act_dim) {
-            row.iter_mut().zip(&scale).for_each(|(x, s)| *x *= s);
-        }
-        let mut out = self.mean_net.vjp(&self.trace, &jv);
+        let mut out =
+            self.mean_net
+                .gauss_newton_product(&self.trace, &self.sensitivities, v_mean, &scale);
         out.extend(v_log_std.iter().map(|x| 2.0 * x));
         out.iter_mut()
             .zip(v)

@@ -154,61 +154,190 @@ impl HostMlp {
         self.trace(x).output()
     }
 
-    /// Forward-mode derivative of the output along the parameter direction `tangent`
-    /// (laid out like `params`): dz = x·dW + db + dx·W, dh = (1 − h²) ⊙ dz.
-    pub fn jvp(&self, trace: &HostTrace, tangent: &[f64]) -> Vec<f64> {
+    /// ∂output/∂z of every hidden layer but the last, at the rows of `trace`: what
+    /// [`Self::gauss_newton_product`] needs besides the trace. Costs `output_dim` reverse
+    /// passes through those layers, once per batch.
+    pub fn output_sensitivities(&self, trace: &HostTrace) -> OutputSensitivities {
+        let transposed = self.transposed_weights();
+        let (layers, outputs) = (self.layers(), self.output_dim());
+        let blocks = trace
+            .blocks
+            .par_iter()
+            .map(|acts| {
+                let rows = acts[0].len() / self.input_dim();
+                // sens[i][k]: ∂output_k/∂z_i, [rows, dims[i + 1]] row-major, for the hidden
+                // layers i < layers - 2, built back from the last hidden layer's, which is
+                // (1 − h²) ⊙ W[:, k] of the output layer W and is not kept.
+                if layers < 3 {
+                    return Vec::new();
+                }
+                let (w_out, _) = self.layer(&self.params, layers - 1);
+                let units = self.dims[layers - 1];
+                let h = &acts[layers - 1];
+                let last_hidden: Vec<Vec<f64>> = (0..outputs)
+                    .map(|k| {
+                        (0..rows * units)
+                            .map(|e| (1.0 - h[e] * h[e]) * w_out[(e % units) * outputs + k])
+                            .collect()
+                    })
+                    .collect();
+                let mut sens: Vec<Vec<Vec<f64>>> = vec![Vec::new(); layers - 2];
+                for i in (0..layers - 2).rev() {
+                    let above = sens.get(i + 1).unwrap_or(&last_hidden);
+                    let (fan_in, fan_out) = (self.dims[i + 1], self.dims[i + 2]);
+                    let below: Vec<Vec<f64>> = above
+                        .iter()
+                        .map(|s| {
+                            gemm_to_vec(
+                                (rows, fan_out, fan_in),
+                                s,
+                                (fan_out, 1),
+                                &transposed[i],
+                                (fan_in, 1),
+                                Start::Zero,
+                                Finish::TanhDerivative(&acts[i + 1]),
+                            )
+                        })
+                        .collect();
+                    sens[i] = below;
+                }
+                sens
+            })
+            .collect();
+        OutputSensitivities { blocks }
+    }
+
+    /// Σ_rows J_rᵀ diag(`output_weights`) J_r `tangent`, J_r the Jacobian of row r's output
+    /// with respect to the parameters (`tangent` and the result laid out like `params`):
+    /// the Gauss–Newton (for a Gaussian policy's mean, Fisher) matrix times a vector.
+    ///
+    /// Exact, and cheaper than a forward-mode pass followed by a reverse one: with the
+    /// sensitivities ∂output/∂z cached, each layer contributes x·dW + db contracted with
+    /// them, and receives xᵀ·(sensitivities · u), so a hidden-to-hidden layer costs two
+    /// matrix products per call instead of four (the dx·W of the forward-mode pass and the
+    /// dz·Wᵀ of the reverse one are gone). The last hidden layer's sensitivities are
+    /// (1 − h²) ⊙ W_out, applied on the fly. Each block runs both halves while its
+    /// activations are in cache.
+    pub fn gauss_newton_product(
+        &self,
+        trace: &HostTrace,
+        sensitivities: &OutputSensitivities,
+        tangent: &[f64],
+        output_weights: &[f64],
+    ) -> Vec<f64> {
         assert_eq!(
             tangent.len(),
             self.num_params(),
             "tangent of the wrong length"
         );
-        let blocks: Vec<Vec<f64>> = trace
+        assert_eq!(
+            output_weights.len(),
+            self.output_dim(),
+            "one weight per output"
+        );
+        assert_eq!(
+            sensitivities.blocks.len(),
+            trace.blocks.len(),
+            "sensitivities of another trace"
+        );
+        let transposed = self.transposed_weights();
+        let per_block: Vec<Vec<f64>> = trace
             .blocks
             .par_iter()
-            .map(|acts| {
-                let rows = acts[0].len() / self.input_dim();
-                let mut d_input: Option<Vec<f64>> = None;
-                for i in 0..self.layers() {
-                    let (w, _) = self.layer(&self.params, i);
-                    let (dw, db) = self.layer(tangent, i);
-                    let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
-                    // Through this layer's tanh (not after the output layer).
-                    let finish = if i + 1 < self.layers() {
-                        Finish::TanhDerivative(&acts[i + 1])
-                    } else {
-                        Finish::None
-                    };
-                    let mut dz = gemm_to_vec(
-                        (rows, fan_in, fan_out),
-                        &acts[i],
-                        (fan_in, 1),
-                        dw,
-                        (fan_out, 1),
-                        Start::Bias(db),
-                        if d_input.is_some() {
-                            Finish::None
-                        } else {
-                            finish
-                        },
-                    );
-                    if let Some(dx) = &d_input {
-                        gemm(
-                            (rows, fan_in, fan_out),
-                            dx,
-                            (fan_in, 1),
-                            w,
-                            (fan_out, 1),
-                            &mut dz,
-                            Start::Accumulate,
-                            finish,
-                        );
-                    }
-                    d_input = Some(dz);
-                }
-                d_input.expect("an MLP has at least one layer")
+            .zip(&sensitivities.blocks)
+            .map(|(acts, sens)| {
+                let jv = self.jvp_block(acts, sens, tangent);
+                let upstream: Vec<f64> = jv
+                    .chunks_exact(self.output_dim())
+                    .flat_map(|row| row.iter().zip(output_weights).map(|(x, w)| x * w))
+                    .collect();
+                self.jtu_block(acts, sens, &upstream, &transposed)
             })
             .collect();
-        blocks.concat()
+        sum_in_order(self.num_params(), &per_block)
+    }
+
+    /// J·tangent for one block, `[rows, out]`: every layer's direct term x·dW + db, carried
+    /// to the output by the cached sensitivities (the hidden layers before the last), by
+    /// (1 − h²) and W_out (the last hidden layer), or as it is (the output layer).
+    fn jvp_block(&self, acts: &[Vec<f64>], sens: &[Vec<Vec<f64>>], tangent: &[f64]) -> Vec<f64> {
+        let (layers, outputs) = (self.layers(), self.output_dim());
+        let rows = acts[0].len() / self.input_dim();
+        let mut jv = vec![0.0; rows * outputs];
+        for i in 0..layers {
+            let (dw, db) = self.layer(tangent, i);
+            let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
+            let last_hidden = i + 2 == layers;
+            let finish = if last_hidden {
+                Finish::TanhDerivative(&acts[i + 1])
+            } else {
+                Finish::None
+            };
+            let dz = gemm_to_vec(
+                (rows, fan_in, fan_out),
+                &acts[i],
+                (fan_in, 1),
+                dw,
+                (fan_out, 1),
+                Start::Bias(db),
+                finish,
+            );
+            if i + 1 == layers {
+                jv.iter_mut().zip(&dz).for_each(|(j, d)| *j += d);
+            } else if last_hidden {
+                let (w_out, _) = self.layer(&self.params, layers - 1);
+                gemm(
+                    (rows, fan_out, outputs),
+                    &dz,
+                    (fan_out, 1),
+                    w_out,
+                    (outputs, 1),
+                    &mut jv,
+                    Start::Accumulate,
+                    Finish::None,
+                );
+            } else {
+                dot_rows(&mut jv, &dz, &sens[i], fan_out);
+            }
+        }
+        jv
+    }
+
+    /// Jᵀ·upstream for one block, laid out like `params`: every layer's gradient
+    /// xᵀ·g and 1ᵀ·g, with g = ∂(Σ output ⊙ upstream)/∂z from the same three cases as
+    /// [`Self::jvp_block`].
+    fn jtu_block(
+        &self,
+        acts: &[Vec<f64>],
+        sens: &[Vec<Vec<f64>>],
+        upstream: &[f64],
+        transposed: &[Vec<f64>],
+    ) -> Vec<f64> {
+        let (layers, outputs) = (self.layers(), self.output_dim());
+        let rows = acts[0].len() / self.input_dim();
+        let mut grad = vec![0.0; self.num_params()];
+        for i in 0..layers {
+            let fan_out = self.dims[i + 1];
+            let g = if i + 1 == layers {
+                upstream.to_vec()
+            } else if i + 2 == layers {
+                gemm_to_vec(
+                    (rows, outputs, fan_out),
+                    upstream,
+                    (outputs, 1),
+                    &transposed[i],
+                    (fan_out, 1),
+                    Start::Zero,
+                    Finish::TanhDerivative(&acts[i + 1]),
+                )
+            } else {
+                let mut g = vec![0.0; rows * fan_out];
+                combine_rows(&mut g, &sens[i], upstream, fan_out);
+                g
+            };
+            self.layer_gradient(i, &acts[i], &g, &mut grad);
+        }
+        grad
     }
 
     /// Reverse-mode: the parameter gradient of Σ output ⊙ `upstream` (`[rows, out]`),
@@ -219,10 +348,21 @@ impl HostMlp {
             trace.rows * self.output_dim(),
             "upstream of the wrong shape"
         );
-        // Wᵀ of every layer past the first, once per call: each block's dz·Wᵀ then reads
-        // a row-major operand, which the GEMM packs with vector copies instead of
-        // gathering Wᵀ's columns element by element for every block.
-        let transposed: Vec<Vec<f64>> = (1..self.layers())
+        let transposed = self.transposed_weights();
+        let per_block: Vec<Vec<f64>> = trace
+            .blocks
+            .par_iter()
+            .zip(upstream.par_chunks(BLOCK_ROWS * self.output_dim()))
+            .map(|(acts, upstream)| self.vjp_block(acts, upstream, &transposed))
+            .collect();
+        sum_in_order(self.num_params(), &per_block)
+    }
+
+    /// Wᵀ (`[out, in]` row-major) of every layer past the first, `[i - 1]` for layer i, once
+    /// per call: each block's dz·Wᵀ then reads a row-major operand, which the GEMM packs
+    /// with vector copies instead of gathering Wᵀ's columns element by element per block.
+    fn transposed_weights(&self) -> Vec<Vec<f64>> {
+        (1..self.layers())
             .map(|i| {
                 let (w, _) = self.layer(&self.params, i);
                 let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
@@ -234,18 +374,42 @@ impl HostMlp {
                 }
                 wt
             })
-            .collect();
-        let per_block: Vec<Vec<f64>> = trace
-            .blocks
-            .par_iter()
-            .zip(upstream.par_chunks(BLOCK_ROWS * self.output_dim()))
-            .map(|(acts, upstream)| self.vjp_block(acts, upstream, &transposed))
-            .collect();
-        let mut grad = vec![0.0; self.num_params()];
-        for block in &per_block {
-            grad.iter_mut().zip(block).for_each(|(g, b)| *g += b);
-        }
-        grad
+            .collect()
+    }
+
+    /// Layer i's gradient from its input x and ∂/∂z = `dz`: gW = xᵀ·dz, gb = 1ᵀ·dz,
+    /// written into its place in `grad`.
+    fn layer_gradient(&self, i: usize, x: &[f64], dz: &[f64], grad: &mut [f64]) {
+        let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
+        let rows = x.len() / fan_in;
+        let offset = num_params(&self.dims[..=i]);
+        let (gw, gb) =
+            grad[offset..offset + fan_in * fan_out + fan_out].split_at_mut(fan_in * fan_out);
+        // x read transposed through its strides.
+        gemm(
+            (fan_in, rows, fan_out),
+            x,
+            (1, fan_in),
+            dz,
+            (fan_out, 1),
+            gw,
+            Start::Zero,
+            Finish::None,
+        );
+        // gb = Σ_rows dz as the one-row product 1ᵀ·dz (a single 1.0 read with zero
+        // strides): the GEMM's few-rows path keeps gb in registers and adds the rows in
+        // order, as a plain loop would.
+        gb.fill(0.0);
+        gemm(
+            (1, rows, fan_out),
+            &[1.0],
+            (0, 0),
+            dz,
+            (fan_out, 1),
+            gb,
+            Start::Accumulate,
+            Finish::None,
+        );
     }
 
     /// `transposed[i - 1]` is layer i's Wᵀ (`[out, in]` row-major).
@@ -255,33 +419,7 @@ impl HostMlp {
         let mut dz = upstream.to_vec();
         for i in (0..self.layers()).rev() {
             let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
-            let offset = num_params(&self.dims[..=i]);
-            let (gw, gb) =
-                grad[offset..offset + fan_in * fan_out + fan_out].split_at_mut(fan_in * fan_out);
-            // gW = xᵀ·dz: x read transposed through its strides.
-            gemm(
-                (fan_in, rows, fan_out),
-                &acts[i],
-                (1, fan_in),
-                &dz,
-                (fan_out, 1),
-                gw,
-                Start::Zero,
-                Finish::None,
-            );
-            // gb += Σ_rows dz, as the one-row product 1ᵀ·dz (a single 1.0 read with zero
-            // strides): the GEMM's few-rows path keeps gb in registers, and adds the rows
-            // in order, as a plain loop would.
-            gemm(
-                (1, rows, fan_out),
-                &[1.0],
-                (0, 0),
-                &dz,
-                (fan_out, 1),
-                gb,
-                Start::Accumulate,
-                Finish::None,
-            );
+            self.layer_gradient(i, &acts[i], &dz, &mut grad);
             if i > 0 {
                 // dx = dz·Wᵀ, then through the previous layer's tanh.
                 dz = gemm_to_vec(
@@ -297,4 +435,108 @@ impl HostMlp {
         }
         grad
     }
+}
+
+/// What [`HostMlp::output_sensitivities`] caches: per block, per hidden layer before the
+/// last, per output k, ∂output_k/∂z as `[rows, units]` row-major.
+pub struct OutputSensitivities {
+    blocks: Vec<Vec<Vec<Vec<f64>>>>,
+}
+
+/// The element-wise sum of per-block vectors, in block order (the same bits whatever the
+/// number of threads that made them).
+fn sum_in_order(len: usize, per_block: &[Vec<f64>]) -> Vec<f64> {
+    let mut sum = vec![0.0; len];
+    for block in per_block {
+        sum.iter_mut().zip(block).for_each(|(s, b)| *s += b);
+    }
+    sum
+}
+
+/// jv[r, k] += Σ_j dz[r, j] · sens[k][r, j] for every row r and output k: a layer's
+/// direct term carried to the outputs (`width` units per row).
+fn dot_rows(jv: &mut [f64], dz: &[f64], sens: &[Vec<f64>], width: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the CPU has AVX-512F.
+        return unsafe { dot_rows_avx512(jv, dz, sens, width) };
+    }
+    dot_rows_loop(jv, dz, sens, width);
+}
+
+/// The same loop compiled for AVX-512 (the same operations in the same order: the same
+/// bits as [`dot_rows_loop`]); these loops stream the cached sensitivities and were a
+/// fifth of a Gauss–Newton product's time in SSE2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn dot_rows_avx512(jv: &mut [f64], dz: &[f64], sens: &[Vec<f64>], width: usize) {
+    dot_rows_loop(jv, dz, sens, width);
+}
+
+#[inline(always)]
+fn dot_rows_loop(jv: &mut [f64], dz: &[f64], sens: &[Vec<f64>], width: usize) {
+    let outputs = sens.len();
+    for (r, (d, jv)) in dz
+        .chunks_exact(width)
+        .zip(jv.chunks_exact_mut(outputs))
+        .enumerate()
+    {
+        for (j, s) in jv.iter_mut().zip(sens) {
+            *j += dot(d, &s[r * width..(r + 1) * width]);
+        }
+    }
+}
+
+/// g[r, j] = Σ_k sens[k][r, j] · u[r, k]: the gradient at a layer's pre-activations from
+/// the outputs' upstream `u`.
+fn combine_rows(g: &mut [f64], sens: &[Vec<f64>], u: &[f64], width: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the CPU has AVX-512F.
+        return unsafe { combine_rows_avx512(g, sens, u, width) };
+    }
+    combine_rows_loop(g, sens, u, width);
+}
+
+/// As [`dot_rows_avx512`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn combine_rows_avx512(g: &mut [f64], sens: &[Vec<f64>], u: &[f64], width: usize) {
+    combine_rows_loop(g, sens, u, width);
+}
+
+#[inline(always)]
+fn combine_rows_loop(g: &mut [f64], sens: &[Vec<f64>], u: &[f64], width: usize) {
+    let outputs = sens.len();
+    for (r, (g, u)) in g
+        .chunks_exact_mut(width)
+        .zip(u.chunks_exact(outputs))
+        .enumerate()
+    {
+        for (s, u) in sens.iter().zip(u) {
+            let s = &s[r * width..(r + 1) * width];
+            g.iter_mut().zip(s).for_each(|(g, s)| *g += s * u);
+        }
+    }
+}
+
+/// Σ a_i b_i with 32 running sums, so that the loop vectorises into four independent
+/// chains.
+#[inline(always)]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    const LANES: usize = 32;
+    let mut sums = [0.0; LANES];
+    let (a_chunks, b_chunks) = (a.chunks_exact(LANES), b.chunks_exact(LANES));
+    let tail: f64 = a_chunks
+        .remainder()
+        .iter()
+        .zip(b_chunks.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    for (x, y) in a_chunks.zip(b_chunks) {
+        for l in 0..LANES {
+            sums[l] += x[l] * y[l];
+        }
+    }
+    sums.iter().sum::<f64>() + tail
 }

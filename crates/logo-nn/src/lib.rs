@@ -22,7 +22,7 @@ pub use checkpoint::{Checkpoint, CheckpointError, CheckpointMeta};
 pub use critic::{TwinCritic, ValueNet, ValueNetConfig};
 pub use discriminator::{Discriminator, DiscriminatorConfig};
 pub use fisher::{FisherVectorProduct, conjugate_gradient, mean_kl};
-pub use host::{HostMlp, HostTrace};
+pub use host::{HostMlp, HostTrace, OutputSensitivities};
 pub use mlp::{Mlp, MlpConfig};
 pub use policy::{ActingPolicy, GaussianPolicy, PolicyConfig};
 pub use torch_import::{ImportError, load_reference_policy};

@@ -40,7 +40,7 @@ fn max_relative_error(a: &[f64], b: &[f64]) -> f64 {
 }
 
 #[test]
-fn forward_jvp_and_vjp_match_the_burn_mlp() {
+fn forward_and_vjp_match_the_burn_mlp() {
     let (mlp, host, x, mut rng) = setup();
     let device = NdArrayDevice::Cpu;
     let x_tensor = from_f64::<Cpu, 2>(&x, [ROWS, 5], &device);
@@ -49,11 +49,6 @@ fn forward_jvp_and_vjp_match_the_burn_mlp() {
     assert_eq!(trace.rows(), ROWS);
     let forward_error = max_relative_error(&trace.output(), &to_f64(out));
     assert!(forward_error < 1e-13, "forward: {forward_error:e}");
-
-    let tangent = random(&mut rng, host.num_params(), 1.0);
-    let burn_jvp = to_f64(mlp.jvp(&inputs, &split_layers(&mlp, &tangent, &device)));
-    let jvp_error = max_relative_error(&host.jvp(&trace, &tangent), &burn_jvp);
-    assert!(jvp_error < 1e-12, "jvp: {jvp_error:e}");
 
     let upstream = random(&mut rng, ROWS * 3, 1.0);
     let burn_vjp = flatten_layers(mlp.vjp(&inputs, from_f64(&upstream, [ROWS, 3], &device)));
@@ -72,7 +67,13 @@ fn results_do_not_depend_on_the_number_of_threads() {
             .unwrap();
         pool.install(|| {
             let trace = host.trace(&x);
-            (trace.output(), host.vjp(&trace, &upstream))
+            let sens = host.output_sensitivities(&trace);
+            let tangent = &upstream[..host.num_params()];
+            (
+                trace.output(),
+                host.vjp(&trace, &upstream),
+                host.gauss_newton_product(&trace, &sens, tangent, &[0.5, 2.0, 1.0]),
+            )
         })
     };
     let one = run(1);
@@ -97,5 +98,52 @@ fn small_batches_take_the_direct_product_and_agree_with_burn() {
         let want = to_f64(mlp.forward(from_f64::<Cpu, 2>(x, [rows, 5], &device)));
         let err = max_relative_error(&host.forward(x), &want);
         assert!(err < 1e-13, "{rows} rows: {err:e}");
+    }
+}
+
+/// Jᵀ diag(w) J v against burn's forward-mode pass followed by its reverse pass, for nets
+/// with one, two and three hidden layers (no cached sensitivities, the last hidden layer's
+/// only, and a chain of them) and one or several outputs.
+#[test]
+fn the_gauss_newton_product_equals_burns_jvp_then_vjp() {
+    let device = NdArrayDevice::Cpu;
+    for (hidden, output) in [
+        (vec![16], 3),
+        (vec![16, 12], 3),
+        (vec![16, 12], 1),
+        (vec![9, 16, 12], 4),
+    ] {
+        let config = MlpConfig {
+            input: 5,
+            hidden: hidden.clone(),
+            output,
+            output_scale: None,
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let mlp = vec_to_params(
+            config.init::<Cpu>(&device),
+            &random(&mut rng, config.num_params(), 0.6),
+        );
+        let host = HostMlp::from_mlp(&mlp);
+        let x = random(&mut rng, ROWS * 5, 2.0);
+        let tangent = random(&mut rng, host.num_params(), 1.0);
+        let weights = random(&mut rng, output, 1.0);
+
+        let (inputs, _) = mlp.forward_trace(from_f64::<Cpu, 2>(&x, [ROWS, 5], &device));
+        let jv = to_f64(mlp.jvp(&inputs, &split_layers(&mlp, &tangent, &device)));
+        let weighted: Vec<f64> = jv
+            .chunks_exact(output)
+            .flat_map(|row| row.iter().zip(&weights).map(|(j, w)| j * w))
+            .collect();
+        let want = flatten_layers(mlp.vjp(&inputs, from_f64(&weighted, [ROWS, output], &device)));
+
+        let trace = host.trace(&x);
+        let sens = host.output_sensitivities(&trace);
+        let got = host.gauss_newton_product(&trace, &sens, &tangent, &weights);
+        let error = max_relative_error(&got, &want);
+        assert!(
+            error < 1e-12,
+            "hidden {hidden:?}, {output} outputs: {error:e}"
+        );
     }
 }
