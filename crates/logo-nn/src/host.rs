@@ -176,8 +176,12 @@ impl HostMlp {
                 let h = &acts[layers - 1];
                 let last_hidden: Vec<Vec<f64>> = (0..outputs)
                     .map(|k| {
-                        (0..rows * units)
-                            .map(|e| (1.0 - h[e] * h[e]) * w_out[(e % units) * outputs + k])
+                        let column: Vec<f64> =
+                            w_out.iter().skip(k).step_by(outputs).copied().collect();
+                        h.chunks_exact(units)
+                            .flat_map(|row| {
+                                row.iter().zip(&column).map(|(h, w)| (1.0 - h * h) * w)
+                            })
                             .collect()
                     })
                     .collect();
