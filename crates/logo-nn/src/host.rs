@@ -179,9 +179,7 @@ impl HostMlp {
                         let column: Vec<f64> =
                             w_out.iter().skip(k).step_by(outputs).copied().collect();
                         h.chunks_exact(units)
-                            .flat_map(|row| {
-                                row.iter().zip(&column).map(|(h, w)| (1.0 - h * h) * w)
-                            })
+                            .flat_map(|row| row.iter().zip(&column).map(|(h, w)| (1.0 - h * h) * w))
                             .collect()
                     })
                     .collect();
