@@ -178,6 +178,7 @@ impl TrainConfig {
         if !max_kl_ok {
             return Err(format!("max_kl must be > 0, got {}", self.max_kl));
         }
+        self.policy_step.validate()?;
         for (key, v) in [("gamma", self.gamma), ("gae_lambda", self.gae_lambda)] {
             if !(0.0..=1.0).contains(&v) {
                 return Err(format!("{key} must be in [0, 1], got {v}"));

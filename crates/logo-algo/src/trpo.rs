@@ -30,6 +30,11 @@ pub struct PolicyStepConfig {
     /// only the improvement, and its guidance steps often overshoot δ_k.
     #[serde(default)]
     pub kl_limit: Option<f64>,
+    /// F·v on this fraction of the batch (rows spread evenly over it, see
+    /// [`fisher_rows`]) instead of all of it: a cheaper, approximate curvature for the
+    /// conjugate gradient and the step size. 1 (the default) is exact, as the reference.
+    #[serde(default = "default_fisher_fraction")]
+    pub fisher_fraction: f64,
 }
 
 fn default_damping() -> f64 {
@@ -44,6 +49,39 @@ fn default_backtracks() -> usize {
 fn default_accept_ratio() -> f64 {
     0.1
 }
+fn default_fisher_fraction() -> f64 {
+    1.0
+}
+
+impl PolicyStepConfig {
+    /// What a config file cannot be trusted to hold; the message names the key.
+    pub fn validate(&self) -> Result<(), String> {
+        let fraction = self.fisher_fraction;
+        if !(fraction > 0.0 && fraction <= 1.0) {
+            return Err(format!(
+                "policy_step.fisher_fraction must be in (0, 1], got {fraction}"
+            ));
+        }
+        if !(self.damping >= 0.0 && self.damping.is_finite()) {
+            return Err(format!(
+                "policy_step.damping must be >= 0, got {}",
+                self.damping
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The rows F·v is computed on: `None` for all of them (`fraction` 1), else
+/// round(fraction · rows) (at least one) spread evenly, row ⌊j · rows / count⌋ for the
+/// j-th, so that every part of the batch (its episodes come one after another) is seen.
+pub fn fisher_rows(rows: usize, fraction: f64) -> Option<Vec<usize>> {
+    if fraction >= 1.0 {
+        return None;
+    }
+    let count = ((rows as f64 * fraction).round() as usize).clamp(1, rows.max(1));
+    Some((0..count).map(|j| j * rows / count).collect())
+}
 
 impl Default for PolicyStepConfig {
     fn default() -> Self {
@@ -53,6 +91,7 @@ impl Default for PolicyStepConfig {
             backtracks: 10,
             accept_ratio: 0.1,
             kl_limit: None,
+            fisher_fraction: 1.0,
         }
     }
 }
@@ -129,19 +168,9 @@ pub fn trpo_step<B: Backend>(
 ) -> (GaussianPolicy<B>, StepStats) {
     let theta = params_to_vec(&policy);
     let objective: Box<dyn StepObjective + '_> = if is_host_backend::<B>() {
-        Box::new(HostObjective::new(
-            &policy,
-            data,
-            advantages,
-            config.damping,
-        ))
+        Box::new(HostObjective::new(&policy, data, advantages, config))
     } else {
-        Box::new(BurnObjective::new(
-            &policy,
-            data,
-            advantages,
-            config.damping,
-        ))
+        Box::new(BurnObjective::new(&policy, data, advantages, config))
     };
     let result = natural_gradient_step(&*objective, &theta, max_kl, config);
     drop(objective);
@@ -225,10 +254,23 @@ impl<'a, B: Backend> BurnObjective<'a, B> {
         policy: &'a GaussianPolicy<B>,
         data: &'a StepData<B>,
         advantages: &[f64],
-        damping: f64,
+        config: &PolicyStepConfig,
     ) -> Self {
-        let advantages = from_f64::<B, 1>(advantages, [advantages.len()], &data.obs.device());
-        let fvp = FisherVectorProduct::new(policy, data.obs.clone(), damping);
+        let device = data.obs.device();
+        let fisher_obs = match fisher_rows(advantages.len(), config.fisher_fraction) {
+            None => data.obs.clone(),
+            Some(rows) => {
+                let rows: Vec<i64> = rows.iter().map(|&r| r as i64).collect();
+                let len = rows.len();
+                let indices = Tensor::<B, 1, burn::tensor::Int>::from_data(
+                    burn::tensor::TensorData::new(rows, [len]),
+                    &device,
+                );
+                data.obs.clone().select(0, indices)
+            }
+        };
+        let advantages = from_f64::<B, 1>(advantages, [advantages.len()], &device);
+        let fvp = FisherVectorProduct::new(policy, fisher_obs, config.damping);
         Self {
             policy,
             data,
@@ -277,6 +319,8 @@ struct HostObjective {
     logp_old: Vec<f64>,
     advantages: Vec<f64>,
     trace: HostTrace,
+    /// The trace F·v runs on when it uses a subsample of the batch (`fisher_fraction`).
+    fisher_trace: Option<HostTrace>,
     sensitivities: OutputSensitivities,
     damping: f64,
 }
@@ -286,12 +330,20 @@ impl HostObjective {
         policy: &GaussianPolicy<B>,
         data: &StepData<B>,
         advantages: &[f64],
-        damping: f64,
+        config: &PolicyStepConfig,
     ) -> Self {
         let mean_net = HostMlp::from_mlp(&policy.mean);
         let obs = to_f64(data.obs.clone());
         let trace = mean_net.trace(&obs);
-        let sensitivities = mean_net.output_sensitivities(&trace);
+        let obs_dim = mean_net.input_dim();
+        let fisher_trace = fisher_rows(advantages.len(), config.fisher_fraction).map(|rows| {
+            let subset: Vec<f64> = rows
+                .iter()
+                .flat_map(|&r| obs[r * obs_dim..(r + 1) * obs_dim].iter().copied())
+                .collect();
+            mean_net.trace(&subset)
+        });
+        let sensitivities = mean_net.output_sensitivities(fisher_trace.as_ref().unwrap_or(&trace));
         Self {
             mean_net,
             log_std: to_f64(policy.log_std.val()),
@@ -300,8 +352,9 @@ impl HostObjective {
             logp_old: to_f64(data.logp_old.clone()),
             advantages: advantages.to_vec(),
             trace,
+            fisher_trace,
             sensitivities,
-            damping,
+            damping: config.damping,
         }
     }
 
@@ -373,11 +426,12 @@ impl StepObjective for HostObjective {
     /// As [`FisherVectorProduct::apply`]: [Jᵀ M J v_μ / N ; 2 v_logσ] + damping · v.
     fn fisher_vector_product(&self, v: &[f64]) -> Vec<f64> {
         let (v_mean, v_log_std) = v.split_at(self.mean_net.num_params());
-        let n = self.trace.rows() as f64;
+        let trace = self.fisher_trace.as_ref().unwrap_or(&self.trace);
+        let n = trace.rows() as f64;
         let scale: Vec<f64> = self.log_std.iter().map(|l| (-2.0 * l).exp() / n).collect();
         let mut out =
             self.mean_net
-                .gauss_newton_product(&self.trace, &self.sensitivities, v_mean, &scale);
+                .gauss_newton_product(trace, &self.sensitivities, v_mean, &scale);
         out.extend(v_log_std.iter().map(|x| 2.0 * x));
         out.iter_mut()
             .zip(v)
@@ -464,7 +518,8 @@ mod tests {
             actions,
         };
         let advantages = random(&mut rng, rows, 1.0);
-        let objective = HostObjective::new(&policy, &data, &advantages, 0.01);
+        let objective =
+            HostObjective::new(&policy, &data, &advantages, &PolicyStepConfig::default());
         let max_kl = 0.05;
         let free = PolicyStepConfig::default();
         let (_, unlimited) = natural_gradient_step(&objective, &theta, max_kl, &free).unwrap();
@@ -508,8 +563,9 @@ mod tests {
             actions,
             logp_old: from_f64(&logp_old, [rows], &device),
         };
-        let burn = BurnObjective::new(&policy, &data, &advantages, 0.01);
-        let host = HostObjective::new(&policy, &data, &advantages, 0.01);
+        let exact = PolicyStepConfig::default();
+        let burn = BurnObjective::new(&policy, &data, &advantages, &exact);
+        let host = HostObjective::new(&policy, &data, &advantages, &exact);
         let close = |a: &[f64], b: &[f64], what: &str| {
             let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let err = a
@@ -529,15 +585,75 @@ mod tests {
         );
         close(&host.gradient(), &burn.gradient(), "gradient");
         let v = random(&mut rng, theta.len(), 1.0);
-        close(
-            &host.fisher_vector_product(&v),
-            &burn.fisher_vector_product(&v),
-            "F·v",
-        );
+        let fv = host.fisher_vector_product(&v);
+        close(&fv, &burn.fisher_vector_product(&v), "F·v");
         close(
             &[host.kl_from_old(&moved)],
             &[burn.kl_from_old(&moved)],
             "KL",
         );
+
+        // F·v on a third of the rows: the two paths still agree, and it is the exact F·v
+        // of that sub-batch, not the full one.
+        let third = PolicyStepConfig {
+            fisher_fraction: 1.0 / 3.0,
+            ..exact
+        };
+        let host_third = HostObjective::new(&policy, &data, &advantages, &third);
+        let fv_third = host_third.fisher_vector_product(&v);
+        close(
+            &fv_third,
+            &BurnObjective::new(&policy, &data, &advantages, &third).fisher_vector_product(&v),
+            "F·v on a third",
+        );
+        let rows_kept = fisher_rows(rows, third.fisher_fraction).unwrap();
+        assert_eq!(rows_kept.len(), 700);
+        let obs = to_f64(data.obs.clone());
+        let actions = to_f64(data.actions.clone());
+        let pick = |values: &[f64], width: usize| -> Vec<f64> {
+            rows_kept
+                .iter()
+                .flat_map(|&r| values[r * width..(r + 1) * width].iter().copied())
+                .collect()
+        };
+        let sub = StepData::<Cpu> {
+            obs: from_f64(&pick(&obs, 4), [700, 4], &device),
+            actions: from_f64(&pick(&actions, 2), [700, 2], &device),
+            logp_old: from_f64(&pick(&logp_old, 1), [700], &device),
+        };
+        let sub_advantages = pick(&advantages, 1);
+        let on_sub = HostObjective::new(&policy, &sub, &sub_advantages, &exact);
+        close(
+            &fv_third,
+            &on_sub.fisher_vector_product(&v),
+            "F·v of the sub-batch",
+        );
+        let differs = fv_third
+            .iter()
+            .zip(&fv)
+            .any(|(a, b)| (a - b).abs() > 1e-6 * b.abs());
+        assert!(differs, "a third of the rows gave the full batch's F·v");
+    }
+
+    #[test]
+    fn fisher_rows_spread_over_the_batch() {
+        assert_eq!(fisher_rows(10, 1.0), None);
+        assert_eq!(fisher_rows(10, 0.5), Some(vec![0, 2, 4, 6, 8]));
+        assert_eq!(fisher_rows(10, 0.2), Some(vec![0, 5]));
+        assert_eq!(fisher_rows(10, 0.01), Some(vec![0]));
+        assert_eq!(fisher_rows(20_000, 0.2).map(|r| r.len()), Some(4000));
+    }
+
+    #[test]
+    fn a_fisher_fraction_outside_0_1_is_refused() {
+        for bad in [0.0, -0.5, 1.5, f64::NAN] {
+            let config = PolicyStepConfig {
+                fisher_fraction: bad,
+                ..PolicyStepConfig::default()
+            };
+            let err = config.validate().unwrap_err();
+            assert!(err.contains("policy_step.fisher_fraction"), "{err}");
+        }
+        assert!(PolicyStepConfig::default().validate().is_ok());
     }
 }

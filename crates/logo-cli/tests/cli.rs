@@ -98,6 +98,13 @@ fn config_errors_name_the_file_and_the_key() {
         ),
         (TINY.replace("demos.npy", "missing.npy"), "guidance.demos"),
         (TINY.replace("num_envs = 4", "num_envs = 0"), "num_envs"),
+        (
+            TINY.replace(
+                "[guidance]",
+                "[policy_step]\nfisher_fraction = 1.5\n[guidance]",
+            ),
+            "policy_step.fisher_fraction",
+        ),
     ];
     for (i, (text, key)) in cases.iter().enumerate() {
         let path = dir.join(format!("case{i}.toml"));
