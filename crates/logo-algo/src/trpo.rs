@@ -150,13 +150,15 @@ pub fn surrogate_gradient<B: Backend>(
 /// `params_to_vec(policy)`), on the step's fixed batch. Two implementations: burn tensors
 /// for any backend, and host buffers for the default CPU backend (`logo_nn::host`).
 trait StepObjective {
-    fn surrogate(&self, theta: &[f64]) -> f64;
+    /// The surrogate at the old parameters.
+    fn old_surrogate(&self) -> f64;
     /// ∇θ of the surrogate at the old parameters.
     fn gradient(&self) -> Vec<f64>;
     /// F·v at the old parameters (damped).
     fn fisher_vector_product(&self, v: &[f64]) -> Vec<f64>;
-    /// Mean KL(π_old ‖ π_θ) on the batch.
-    fn kl_from_old(&self, theta: &[f64]) -> f64;
+    /// The surrogate at θ and the mean KL(π_old ‖ π_θ) on the batch: a line-search
+    /// candidate needs both, and they share the policy's forward pass.
+    fn surrogate_and_kl(&self, theta: &[f64]) -> (f64, f64);
 }
 
 pub fn trpo_step<B: Backend>(
@@ -208,7 +210,7 @@ fn natural_gradient_step(
     let full_step: Vec<f64> = direction.iter().map(|d| d / scale).collect();
     let expected_full: f64 = grad.iter().zip(&full_step).map(|(g, s)| g * s).sum();
 
-    let before = objective.surrogate(theta);
+    let before = objective.old_surrogate();
     let mut fraction = 1.0;
     for _ in 0..config.backtracks {
         let candidate: Vec<f64> = theta
@@ -216,10 +218,10 @@ fn natural_gradient_step(
             .zip(&full_step)
             .map(|(t, s)| t + fraction * s)
             .collect();
-        let actual = objective.surrogate(&candidate) - before;
+        let (value, kl) = objective.surrogate_and_kl(&candidate);
+        let actual = value - before;
         let expected = expected_full * fraction;
         if actual / expected > config.accept_ratio {
-            let kl = objective.kl_from_old(&candidate);
             if config.kl_limit.is_some_and(|limit| kl > limit * max_kl) {
                 fraction *= 0.5;
                 continue;
@@ -281,12 +283,8 @@ impl<'a, B: Backend> BurnObjective<'a, B> {
 }
 
 impl<B: Backend> StepObjective for BurnObjective<'_, B> {
-    fn surrogate(&self, theta: &[f64]) -> f64 {
-        surrogate(
-            &vec_to_params(self.policy.clone(), theta),
-            self.data,
-            &self.advantages,
-        )
+    fn old_surrogate(&self) -> f64 {
+        surrogate(self.policy, self.data, &self.advantages)
     }
 
     fn gradient(&self) -> Vec<f64> {
@@ -297,7 +295,7 @@ impl<B: Backend> StepObjective for BurnObjective<'_, B> {
         self.fvp.apply(v)
     }
 
-    fn kl_from_old(&self, theta: &[f64]) -> f64 {
+    fn surrogate_and_kl(&self, theta: &[f64]) -> (f64, f64) {
         let new = vec_to_params(self.policy.clone(), theta);
         let kl = mean_kl(
             self.policy.mean_action(self.data.obs.clone()),
@@ -305,7 +303,7 @@ impl<B: Backend> StepObjective for BurnObjective<'_, B> {
             new.mean_action(self.data.obs.clone()),
             new.log_std.val(),
         );
-        to_f64(kl)[0]
+        (surrogate(&new, self.data, &self.advantages), to_f64(kl)[0])
     }
 }
 
@@ -395,9 +393,9 @@ fn host_log_prob(mean: &[f64], log_std: &[f64], action: &[f64]) -> f64 {
 }
 
 impl StepObjective for HostObjective {
-    fn surrogate(&self, theta: &[f64]) -> f64 {
-        let (mean_net, log_std) = self.split(theta);
-        self.weights(&mean_net.forward(&self.obs), &log_std)
+    /// From the cached trace: the same forward pass a fresh one would repeat.
+    fn old_surrogate(&self) -> f64 {
+        self.weights(&self.trace.output(), &self.log_std)
             .iter()
             .sum()
     }
@@ -439,11 +437,14 @@ impl StepObjective for HostObjective {
         out
     }
 
-    /// Σ_j [log σ_new − log σ_old + (σ_old² + (μ_old − μ_new)²) / (2σ_new²) − ½], averaged.
-    fn kl_from_old(&self, theta: &[f64]) -> f64 {
+    /// The surrogate as [`surrogate`], and the KL as
+    /// Σ_j [log σ_new − log σ_old + (σ_old² + (μ_old − μ_new)²) / (2σ_new²) − ½], averaged,
+    /// both from one forward pass at θ.
+    fn surrogate_and_kl(&self, theta: &[f64]) -> (f64, f64) {
         let act_dim = self.log_std.len();
         let (mean_net, log_std) = self.split(theta);
         let new_mean = mean_net.forward(&self.obs);
+        let value = self.weights(&new_mean, &log_std).iter().sum();
         let old_mean = self.trace.output();
         let total: f64 = old_mean
             .chunks_exact(act_dim)
@@ -458,7 +459,7 @@ impl StepObjective for HostObjective {
                     .sum::<f64>()
             })
             .sum();
-        total / self.trace.rows() as f64
+        (value, total / self.trace.rows() as f64)
     }
 }
 
@@ -578,20 +579,19 @@ mod tests {
             );
         };
         let moved: Vec<f64> = theta.iter().map(|t| t + 0.01 * t.signum()).collect();
+        let (host_value, host_kl) = host.surrogate_and_kl(&moved);
+        let (burn_value, burn_kl) = burn.surrogate_and_kl(&moved);
+        close(&[host_value], &[burn_value], "surrogate");
         close(
-            &[host.surrogate(&moved)],
-            &[burn.surrogate(&moved)],
-            "surrogate",
+            &[host.old_surrogate()],
+            &[burn.old_surrogate()],
+            "old surrogate",
         );
         close(&host.gradient(), &burn.gradient(), "gradient");
         let v = random(&mut rng, theta.len(), 1.0);
         let fv = host.fisher_vector_product(&v);
         close(&fv, &burn.fisher_vector_product(&v), "F·v");
-        close(
-            &[host.kl_from_old(&moved)],
-            &[burn.kl_from_old(&moved)],
-            "KL",
-        );
+        close(&[host_kl], &[burn_kl], "KL");
 
         // F·v on a third of the rows: the two paths still agree, and it is the exact F·v
         // of that sub-batch, not the full one.
