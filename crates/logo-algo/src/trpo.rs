@@ -317,6 +317,8 @@ struct HostObjective {
     logp_old: Vec<f64>,
     advantages: Vec<f64>,
     trace: HostTrace,
+    /// The old policy's means, `trace`'s output, copied out once.
+    old_mean: Vec<f64>,
     /// The trace F·v runs on when it uses a subsample of the batch (`fisher_fraction`).
     fisher_trace: Option<HostTrace>,
     sensitivities: OutputSensitivities,
@@ -343,6 +345,7 @@ impl HostObjective {
         });
         let sensitivities = mean_net.output_sensitivities(fisher_trace.as_ref().unwrap_or(&trace));
         Self {
+            old_mean: trace.output(),
             mean_net,
             log_std: to_f64(policy.log_std.val()),
             obs,
@@ -395,16 +398,14 @@ fn host_log_prob(mean: &[f64], log_std: &[f64], action: &[f64]) -> f64 {
 impl StepObjective for HostObjective {
     /// From the cached trace: the same forward pass a fresh one would repeat.
     fn old_surrogate(&self) -> f64 {
-        self.weights(&self.trace.output(), &self.log_std)
-            .iter()
-            .sum()
+        self.weights(&self.old_mean, &self.log_std).iter().sum()
     }
 
     /// As [`surrogate_gradient`]: ∂/∂μ = w z/σ through the reverse pass, ∂/∂log σ = Σ w (z² − 1).
     fn gradient(&self) -> Vec<f64> {
         let act_dim = self.log_std.len();
-        let mean = self.trace.output();
-        let w = self.weights(&mean, &self.log_std);
+        let mean = &self.old_mean;
+        let w = self.weights(mean, &self.log_std);
         let inv_std: Vec<f64> = self.log_std.iter().map(|l| (-l).exp()).collect();
         let mut upstream = vec![0.0; mean.len()];
         let mut grad_log_std = vec![0.0; act_dim];
@@ -445,8 +446,8 @@ impl StepObjective for HostObjective {
         let (mean_net, log_std) = self.split(theta);
         let new_mean = mean_net.forward(&self.obs);
         let value = self.weights(&new_mean, &log_std).iter().sum();
-        let old_mean = self.trace.output();
-        let total: f64 = old_mean
+        let total: f64 = self
+            .old_mean
             .chunks_exact(act_dim)
             .zip(new_mean.chunks_exact(act_dim))
             .map(|(old, new)| {

@@ -463,7 +463,7 @@ mod avx512 {
                     // element-by-element copy. Anything else goes through the
                     // element-by-element copy below.
                     let (a_tile, a_rs, a_cs) = if rsa == 1 {
-                        let (lo, hi) = masks(mr.min(MR));
+                        let (lo, hi) = masks(mr);
                         for kk in 0..kc {
                             let from = a.wrapping_add(i0 + (k0 + kk) * csa);
                             let to = a_pack[kk * MR..].as_mut_ptr();

@@ -206,7 +206,7 @@ impl HostMlp {
                 sens
             })
             .collect();
-        OutputSensitivities { blocks }
+        OutputSensitivities { blocks, transposed }
     }
 
     /// Σ_rows J_rᵀ diag(`output_weights`) J_r `tangent`, J_r the Jacobian of row r's output
@@ -242,7 +242,6 @@ impl HostMlp {
             trace.blocks.len(),
             "sensitivities of another trace"
         );
-        let transposed = self.transposed_weights();
         let per_block: Vec<Vec<f64>> = trace
             .blocks
             .par_iter()
@@ -253,7 +252,7 @@ impl HostMlp {
                     .chunks_exact(self.output_dim())
                     .flat_map(|row| row.iter().zip(output_weights).map(|(x, w)| x * w))
                     .collect();
-                self.jtu_block(acts, sens, &upstream, &transposed)
+                self.jtu_block(acts, sens, &upstream, &sensitivities.transposed)
             })
             .collect();
         sum_in_order(self.num_params(), &per_block)
@@ -440,9 +439,11 @@ impl HostMlp {
 }
 
 /// What [`HostMlp::output_sensitivities`] caches: per block, per hidden layer before the
-/// last, per output k, ∂output_k/∂z as `[rows, units]` row-major.
+/// last, per output k, ∂output_k/∂z as `[rows, units]` row-major; and the weights'
+/// transposes they were built with, which every product's reverse half reads again.
 pub struct OutputSensitivities {
     blocks: Vec<Vec<Vec<Vec<f64>>>>,
+    transposed: Vec<Vec<f64>>,
 }
 
 /// The element-wise sum of per-block vectors, in block order (the same bits whatever the
