@@ -1,13 +1,14 @@
-//! `logo train`'s TOML config. Unknown keys and wrong types are errors naming the file
-//! and the key; paths are relative to the config file's folder.
+//! `logo train`'s TOML config. Unknown keys, wrong types and fields of another kind are
+//! errors naming the file and the key; every value is checked in [`TrainConfig::validate`]
+//! (on a fresh run and on `--resume`); paths are relative to the config file's folder.
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::critic::CriticKind;
+use crate::critic::CriticConfig;
+use crate::policy_update::{PolicyUpdateConfig, check_positive};
 use crate::rollout::RolloutMode;
-use crate::trpo::PolicyStepConfig;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -40,14 +41,9 @@ pub struct TrainConfig {
     pub policy_hidden: Vec<usize>,
     #[serde(default)]
     pub log_std_init: f64,
-    #[serde(default = "default_hidden")]
-    pub critic_hidden: Vec<usize>,
-    #[serde(default = "default_critic")]
-    pub critic: CriticKind,
-    #[serde(default = "default_critic_iters")]
-    pub critic_iters: usize,
-    #[serde(default = "default_critic_l2")]
-    pub critic_l2: f64,
+    /// The env reward's critic (`[critic]`).
+    #[serde(default)]
+    pub critic: CriticConfig,
     /// The reference's GAE across time-limit boundaries (see `gae.rs`).
     #[serde(default)]
     pub cross_episode_bootstrap: bool,
@@ -59,9 +55,10 @@ pub struct TrainConfig {
     pub checkpoint_every: usize,
     /// Start from this policy: a LOGO reference `.pt` (the reference's `--init-BC`).
     pub init_policy: Option<PathBuf>,
+    /// The improvement step's kind and fields (`[improvement]`, default `kind = "trpo"`).
     #[serde(default)]
-    pub policy_step: PolicyStepConfig,
-    /// LOGO's guidance; absent: plain TRPO.
+    pub improvement: PolicyUpdateConfig,
+    /// LOGO's guidance; absent: the improvement step alone (TRPO, PPO, ...).
     pub guidance: Option<GuidanceConfig>,
 }
 
@@ -83,6 +80,10 @@ pub struct GuidanceConfig {
     pub discriminator_lr: f64,
     #[serde(default = "default_hidden")]
     pub discriminator_hidden: Vec<usize>,
+    /// The guidance step's kind (`[guidance.update]`); default: the improvement step's.
+    pub update: Option<PolicyUpdateConfig>,
+    /// The guidance reward's critic (`[guidance.critic]`); default: `[critic]`'s.
+    pub critic: Option<CriticConfig>,
 }
 
 fn default_num_envs() -> usize {
@@ -102,15 +103,6 @@ fn default_max_kl() -> f64 {
 }
 fn default_hidden() -> Vec<usize> {
     vec![128, 128]
-}
-fn default_critic() -> CriticKind {
-    CriticKind::Single
-}
-fn default_critic_iters() -> usize {
-    25
-}
-fn default_critic_l2() -> f64 {
-    1e-3
 }
 fn default_one() -> usize {
     1
@@ -162,60 +154,44 @@ impl TrainConfig {
         Ok(config)
     }
 
-    fn validate(&self) -> Result<(), String> {
+    /// Every value a file can get wrong; the message names the key.
+    pub fn validate(&self) -> Result<(), String> {
         let positive = [
             ("iterations", self.iterations),
             ("samples_per_iter", self.samples_per_iter),
             ("num_envs", self.num_envs),
             ("threads", self.threads),
             ("eval_every", self.eval_every),
+            ("eval_steps", self.eval_steps),
             ("checkpoint_every", self.checkpoint_every),
         ];
         if let Some((key, _)) = positive.iter().find(|(_, v)| *v == 0) {
             return Err(format!("{key} must be at least 1"));
         }
-        let max_kl_ok = self.max_kl.is_finite() && self.max_kl > 0.0; // false for NaN too
-        if !max_kl_ok {
-            return Err(format!("max_kl must be > 0, got {}", self.max_kl));
+        check_positive("max_kl", self.max_kl, false)?;
+        if !self.log_std_init.is_finite() {
+            return Err(format!(
+                "log_std_init must be finite, got {}",
+                self.log_std_init
+            ));
         }
-        self.policy_step.validate()?;
         for (key, v) in [("gamma", self.gamma), ("gae_lambda", self.gae_lambda)] {
             if !(0.0..=1.0).contains(&v) {
                 return Err(format!("{key} must be in [0, 1], got {v}"));
             }
         }
+        if self.policy_hidden.contains(&0) {
+            return Err("policy_hidden: every layer needs at least 1 unit".into());
+        }
+        self.critic.validate("critic")?;
+        self.improvement.validate("improvement")?;
         if let Some(p) = &self.init_policy
             && !p.is_file()
         {
             return Err(format!("init_policy: file {} not found", p.display()));
         }
         if let Some(g) = &self.guidance {
-            match (&g.demos, &g.behaviour_policy) {
-                (None, None) => {
-                    return Err("guidance: set demos (a discriminator) or behaviour_policy".into());
-                }
-                (Some(_), Some(_)) => {
-                    return Err("guidance: set demos or behaviour_policy, not both".into());
-                }
-                _ => {}
-            }
-            for (key, p) in [
-                ("guidance.demos", &g.demos),
-                ("guidance.behaviour_policy", &g.behaviour_policy),
-            ] {
-                if let Some(p) = p
-                    && !p.exists()
-                {
-                    return Err(format!("{key}: {} not found", p.display()));
-                }
-            }
-            let ok = g.delta0.is_finite() && g.delta0 > 0.0 && g.alpha > 0.0 && g.alpha <= 1.0;
-            if !ok {
-                return Err(format!(
-                    "guidance: delta0 must be > 0 and alpha in (0, 1], got {} and {}",
-                    g.delta0, g.alpha
-                ));
-            }
+            g.validate()?;
         }
         Ok(())
     }
@@ -227,5 +203,87 @@ impl TrainConfig {
                 .unwrap_or(&self.env)
                 .to_string()
         })
+    }
+
+    /// The guidance step's kind: `[guidance.update]`, else the improvement step's.
+    pub fn guidance_update(&self) -> Option<&PolicyUpdateConfig> {
+        let g = self.guidance.as_ref()?;
+        Some(g.update.as_ref().unwrap_or(&self.improvement))
+    }
+
+    /// The guidance critic: `[guidance.critic]`, else `[critic]`.
+    pub fn guidance_critic(&self) -> Option<&CriticConfig> {
+        let g = self.guidance.as_ref()?;
+        Some(g.critic.as_ref().unwrap_or(&self.critic))
+    }
+
+    /// What the run trains, as `metrics.csv` and the logs name it: "TRPO", "LOGO",
+    /// "LOGO (guidance ppo-clip, twin-min critics)", ...
+    pub fn algorithm(&self) -> String {
+        let improvement = self.improvement.kind();
+        let mut name = match (&self.guidance, improvement) {
+            (None, "trpo") => "TRPO".to_string(),
+            (None, kind) => kind.to_uppercase(),
+            (Some(_), "trpo") => "LOGO".to_string(),
+            (Some(_), kind) => format!("LOGO+{}", kind.to_uppercase()),
+        };
+        let mut notes = Vec::new();
+        if let Some(update) = self.guidance_update()
+            && update.kind() != improvement
+        {
+            notes.push(format!("guidance {}", update.kind()));
+        }
+        if self.critic.num_nets() == 2 {
+            notes.push("twin-min critics".into());
+        }
+        if !notes.is_empty() {
+            name += &format!(" ({})", notes.join(", "));
+        }
+        name
+    }
+}
+
+impl GuidanceConfig {
+    fn validate(&self) -> Result<(), String> {
+        match (&self.demos, &self.behaviour_policy) {
+            (None, None) => {
+                return Err("guidance: set demos (a discriminator) or behaviour_policy".into());
+            }
+            (Some(_), Some(_)) => {
+                return Err("guidance: set demos or behaviour_policy, not both".into());
+            }
+            _ => {}
+        }
+        for (key, p) in [
+            ("guidance.demos", &self.demos),
+            ("guidance.behaviour_policy", &self.behaviour_policy),
+        ] {
+            if let Some(p) = p
+                && !p.exists()
+            {
+                return Err(format!("{key}: {} not found", p.display()));
+            }
+        }
+        check_positive("guidance.delta0", self.delta0, false)?;
+        if !(self.alpha > 0.0 && self.alpha <= 1.0) {
+            return Err(format!(
+                "guidance.alpha must be in (0, 1], got {}",
+                self.alpha
+            ));
+        }
+        check_positive("guidance.discriminator_lr", self.discriminator_lr, false)?;
+        if self.discriminator_hidden.contains(&0) {
+            return Err("guidance.discriminator_hidden: every layer needs at least 1 unit".into());
+        }
+        if self.observe == Some(0) {
+            return Err("guidance.observe must be at least 1".into());
+        }
+        if let Some(update) = &self.update {
+            update.validate("guidance.update")?;
+        }
+        if let Some(critic) = &self.critic {
+            critic.validate("guidance.critic")?;
+        }
+        Ok(())
     }
 }

@@ -1,163 +1,341 @@
-//! A critic for one reward stream: one value net, or two with baseline min(V1, V2)
-//! (clipped double-Q, the seed paper's "CDQ"), each fitted to the GAE returns by L-BFGS
-//! on MSE + l2·‖θ‖² (the reference: 25 iterations, l2 = 1e-3).
-//!
-//! The gradient is the MLP's hand-written reverse pass over one forward trace, on a plain
-//! (no-autodiff) backend: no graph to build, and the fast tanh of the ndarray backend.
-//! A test checks it against burn's autodiff.
+//! The critic of one reward stream, as a configuration: `single` (LOGO's one value net)
+//! or `twin-min` (the seed paper's clipped double-Q: two value nets fitted to the same
+//! returns, the baseline min(V1, V2)). Each net is fitted by L-BFGS on MSE + l2·‖θ‖²
+//! (the reference: 25 iterations, l2 = 1e-3) or by epochs of minibatch Adam, a config
+//! choice (`[critic.fit] method = "lbfgs" | "adam"`).
 
 use burn::tensor::Tensor;
-use burn::tensor::backend::Backend;
-use logo_nn::flat::{flatten_layers, from_f64, to_f64, vec_to_params};
-use logo_nn::host::is_host_backend;
-use logo_nn::{HostMlp, HostTrace, ValueNet, ValueNetConfig};
+use logo_nn::flat::{dot, to_f64};
+use logo_nn::loss::{mse, scalar, value_and_grad};
+use logo_nn::{Engine, ValueNet, ValueNetConfig};
+use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::adam::{Adam, AdamEpochs};
 use crate::lbfgs;
+use crate::policy_update::check_positive;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum CriticKind {
     /// One value net (LOGO).
+    #[default]
     Single,
     /// Two value nets fitted to the same returns; the baseline is their minimum.
     TwinMin,
 }
 
-pub struct Critic<B: Backend> {
-    /// One net, or two for `TwinMin`.
-    pub nets: Vec<ValueNet<B>>,
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CriticConfig {
+    #[serde(default)]
+    pub kind: CriticKind,
+    /// Hidden sizes of each value net (tanh). The reference: 128-128.
+    #[serde(default = "default_hidden")]
+    pub hidden: Vec<usize>,
+    #[serde(default)]
+    pub fit: CriticFit,
 }
 
-/// MSE(V(obs), target) + l2·‖θ‖² and its gradient, for `net` with parameters `theta`.
-pub fn value_loss_and_grad<B: Backend>(
-    net: &ValueNet<B>,
-    obs: Tensor<B, 2>,
-    target: Tensor<B, 2>,
-    theta: &[f64],
-    l2: f64,
-) -> (f64, Vec<f64>) {
-    let n = obs.dims()[0] as f64;
-    let (inputs, out) = net.net.forward_trace(obs);
-    let diff = out - target;
-    let mse = to_f64((diff.clone() * diff.clone()).sum())[0] / n;
-    let mut grad = flatten_layers(net.net.vjp(&inputs, diff.mul_scalar(2.0 / n)));
-    grad.iter_mut()
-        .zip(theta)
-        .for_each(|(g, t)| *g += 2.0 * l2 * t);
-    (mse + l2 * theta.iter().map(|t| t * t).sum::<f64>(), grad)
+fn default_hidden() -> Vec<usize> {
+    vec![128, 128]
 }
 
-/// [`value_loss_and_grad`] on host buffers (see `logo_nn::host`), as an L-BFGS
-/// objective: the loss is a forward pass, the gradient a reverse pass over its trace.
-pub struct HostValueObjective<'a> {
-    pub dims: Vec<usize>,
-    pub obs: &'a [f64],
-    pub target: &'a [f64],
-    pub l2: f64,
-    /// The net, trace and residuals of the latest loss.
-    last: Option<(HostMlp, HostTrace, Vec<f64>)>,
-}
-
-impl<'a> HostValueObjective<'a> {
-    pub fn new(dims: Vec<usize>, obs: &'a [f64], target: &'a [f64], l2: f64) -> Self {
+impl Default for CriticConfig {
+    fn default() -> Self {
         Self {
-            dims,
-            obs,
-            target,
-            l2,
-            last: None,
+            kind: CriticKind::Single,
+            hidden: default_hidden(),
+            fit: CriticFit::default(),
         }
     }
 }
 
-impl lbfgs::Objective for HostValueObjective<'_> {
-    fn loss(&mut self, theta: &[f64]) -> f64 {
-        let net = HostMlp::new(self.dims.clone(), theta.to_vec());
-        let trace = net.trace(self.obs);
-        let diff: Vec<f64> = trace
-            .output()
-            .iter()
-            .zip(self.target)
-            .map(|(v, t)| v - t)
-            .collect();
-        let mse = diff.iter().map(|d| d * d).sum::<f64>() / diff.len() as f64;
-        let l2 = self.l2 * theta.iter().map(|t| t * t).sum::<f64>();
-        self.last = Some((net, trace, diff));
-        mse + l2
-    }
+/// How each value net is fitted to its returns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "method", rename_all = "kebab-case")]
+pub enum CriticFit {
+    /// L-BFGS on the whole batch (the reference's `fmin_l_bfgs_b(maxiter=25)`).
+    Lbfgs(LbfgsFit),
+    /// Epochs of minibatch Adam, as PPO implementations fit their value function.
+    Adam(AdamFit),
+}
 
-    fn gradient(&mut self) -> Vec<f64> {
-        let (net, trace, diff) = self.last.as_ref().expect("gradient() follows loss()");
-        let n = diff.len() as f64;
-        let upstream: Vec<f64> = diff.iter().map(|d| d * 2.0 / n).collect();
-        let mut grad = net.vjp(trace, &upstream);
-        grad.iter_mut()
-            .zip(&net.params)
-            .for_each(|(g, t)| *g += 2.0 * self.l2 * t);
-        grad
+impl Default for CriticFit {
+    fn default() -> Self {
+        Self::Lbfgs(LbfgsFit::default())
     }
 }
 
-impl<B: Backend> Critic<B> {
-    pub fn new(kind: CriticKind, obs_dim: usize, hidden: &[usize], device: &B::Device) -> Self {
-        let config = ValueNetConfig {
-            obs_dim,
-            hidden: hidden.to_vec(),
-        };
-        let count = match kind {
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LbfgsFit {
+    #[serde(default = "default_lbfgs_iterations")]
+    pub iterations: usize,
+    #[serde(default = "default_l2")]
+    pub l2: f64,
+}
+
+fn default_lbfgs_iterations() -> usize {
+    25
+}
+fn default_l2() -> f64 {
+    1e-3
+}
+
+impl Default for LbfgsFit {
+    fn default() -> Self {
+        Self {
+            iterations: default_lbfgs_iterations(),
+            l2: default_l2(),
+        }
+    }
+}
+
+/// Defaults: the PPO paper's MuJoCo settings (10 epochs, minibatch 64, Adam lr 3e-4),
+/// and the reference's l2.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdamFit {
+    #[serde(default = "default_adam_epochs")]
+    pub epochs: usize,
+    #[serde(default = "default_adam_minibatch")]
+    pub minibatch: usize,
+    #[serde(default = "default_adam_lr")]
+    pub learning_rate: f64,
+    #[serde(default = "default_l2")]
+    pub l2: f64,
+}
+
+fn default_adam_epochs() -> usize {
+    10
+}
+fn default_adam_minibatch() -> usize {
+    64
+}
+fn default_adam_lr() -> f64 {
+    3e-4
+}
+
+impl CriticConfig {
+    /// What a config file cannot be trusted to hold; `table` names where it is.
+    pub fn validate(&self, table: &str) -> Result<(), String> {
+        if self.hidden.contains(&0) {
+            return Err(format!("{table}.hidden: every layer needs at least 1 unit"));
+        }
+        match &self.fit {
+            CriticFit::Lbfgs(fit) => {
+                if fit.iterations == 0 {
+                    return Err(format!("{table}.fit.iterations must be at least 1"));
+                }
+                check_positive(&format!("{table}.fit.l2"), fit.l2, true)
+            }
+            CriticFit::Adam(fit) => {
+                for (key, value) in [("epochs", fit.epochs), ("minibatch", fit.minibatch)] {
+                    if value == 0 {
+                        return Err(format!("{table}.fit.{key} must be at least 1"));
+                    }
+                }
+                check_positive(
+                    &format!("{table}.fit.learning_rate"),
+                    fit.learning_rate,
+                    false,
+                )?;
+                check_positive(&format!("{table}.fit.l2"), fit.l2, true)
+            }
+        }
+    }
+
+    /// How many value nets the kind has.
+    pub fn num_nets(&self) -> usize {
+        match self.kind {
             CriticKind::Single => 1,
             CriticKind::TwinMin => 2,
-        };
-        Self {
-            nets: (0..count).map(|_| config.init(device)).collect(),
         }
     }
 
-    /// The baseline V(s) for each row: the (minimum over the) value net(s).
-    pub fn values(&self, obs: Tensor<B, 2>) -> Vec<f64> {
-        let host_obs = is_host_backend::<B>().then(|| to_f64(obs.clone()));
+    /// The value net of this critic for `obs_dim` observations.
+    pub fn net(&self, obs_dim: usize) -> ValueNetConfig {
+        ValueNetConfig {
+            obs_dim,
+            hidden: self.hidden.clone(),
+        }
+    }
+}
+
+/// The value nets of one reward stream, on an engine.
+pub struct CriticSet<E: Engine> {
+    pub config: CriticConfig,
+    dims: Vec<usize>,
+    pub nets: Vec<E::Net>,
+    /// Each net's Adam moments (the `adam` fit; carried over between iterations).
+    pub adam: Vec<Adam>,
+}
+
+impl<E: Engine> CriticSet<E> {
+    /// The set of `config.kind` with the parameters of `modules` (one per net).
+    pub fn new<B: burn::tensor::backend::Backend>(
+        engine: &E,
+        config: &CriticConfig,
+        modules: &[ValueNet<B>],
+    ) -> Self {
+        assert_eq!(modules.len(), config.num_nets(), "one module per value net");
+        let dims = modules[0].net.dims();
+        Self {
+            config: config.clone(),
+            nets: modules
+                .iter()
+                .map(|m| engine.net(&dims, &logo_nn::flat::params_to_vec(m)))
+                .collect(),
+            adam: vec![Adam::default(); modules.len()],
+            dims,
+        }
+    }
+
+    /// `templates` with the nets' parameters (for checkpoints).
+    pub fn to_modules<B: burn::tensor::backend::Backend>(
+        &self,
+        engine: &E,
+        templates: &[ValueNet<B>],
+    ) -> Vec<ValueNet<B>> {
         self.nets
             .iter()
-            .map(|net| match &host_obs {
-                Some(x) => HostMlp::from_mlp(&net.net).forward(x),
-                None => to_f64(net.forward(obs.clone())),
-            })
+            .zip(templates)
+            .map(|(net, t)| logo_nn::flat::vec_to_params(t.clone(), &engine.params(net)))
+            .collect()
+    }
+
+    /// The baseline V(s) of each row: the (minimum over the) value net(s).
+    pub fn values(&self, engine: &E, obs: &E::Rows) -> Vec<f64> {
+        self.nets
+            .iter()
+            .map(|net| to_f64(engine.forward(net, obs)))
             .reduce(|a, b| a.iter().zip(&b).map(|(x, y)| x.min(*y)).collect())
             .expect("a critic has at least one net")
     }
 
-    /// Fits every net to `returns`; returns the final loss of each.
-    pub fn fit(
-        &mut self,
-        obs: &Tensor<B, 2>,
-        returns: &[f64],
-        l2: f64,
-        iterations: usize,
-    ) -> Vec<f64> {
-        let target = from_f64::<B, 2>(returns, [returns.len(), 1], &obs.device());
-        let host_obs = is_host_backend::<B>().then(|| to_f64(obs.clone()));
-        let mut losses = Vec::new();
-        for net in &mut self.nets {
-            let template = net.clone();
-            // A value net's parameters are its MLP's, in the same order.
-            let HostMlp { dims, params: x0 } = HostMlp::from_mlp(&template.net);
-            let result = match &host_obs {
-                Some(x) => {
-                    let mut objective = HostValueObjective::new(dims, x, returns, l2);
-                    lbfgs::minimize(&mut objective, x0, iterations)
+    /// Fits every net to `returns` (`[rows]`); the mean of their final losses.
+    pub fn fit(&mut self, engine: &E, obs: &E::Rows, returns: &[f64], rng: &mut ChaCha8Rng) -> f64 {
+        let targets = logo_nn::engine::tensor(engine, returns, [returns.len(), 1]);
+        let mut total = 0.0;
+        for (net, adam) in self.nets.iter_mut().zip(&mut self.adam) {
+            let theta0 = engine.params(net);
+            let (theta, loss) = match &self.config.fit {
+                CriticFit::Lbfgs(fit) => {
+                    let mut objective =
+                        ValueObjective::new(engine, &self.dims, obs, &targets, fit.l2);
+                    let result = lbfgs::minimize(&mut objective, theta0, fit.iterations);
+                    (result.x, result.loss)
                 }
-                None => {
-                    let mut objective = lbfgs::Eager::new(|theta: &[f64]| {
-                        let candidate = vec_to_params(template.clone(), theta);
-                        value_loss_and_grad(&candidate, obs.clone(), target.clone(), theta, l2)
+                CriticFit::Adam(fit) => {
+                    let epochs = AdamEpochs {
+                        epochs: fit.epochs,
+                        minibatch: fit.minibatch,
+                        learning_rate: fit.learning_rate,
+                        max_grad_norm: None,
+                    };
+                    let mut theta = theta0;
+                    let rows = engine.num_rows(obs);
+                    epochs.run(adam, &mut theta, rows, rng, |indices, theta| {
+                        let minibatch = engine.select(obs, indices);
+                        let minibatch_targets = logo_nn::engine::select_rows(&targets, indices);
+                        let mut objective = ValueObjective::new(
+                            engine,
+                            &self.dims,
+                            &minibatch,
+                            &minibatch_targets,
+                            fit.l2,
+                        );
+                        lbfgs::Objective::loss(&mut objective, theta);
+                        Some(lbfgs::Objective::gradient(&mut objective))
                     });
-                    lbfgs::minimize(&mut objective, x0, iterations)
+                    let loss = ValueObjective::new(engine, &self.dims, obs, &targets, fit.l2)
+                        .value(&theta);
+                    (theta, loss)
                 }
             };
-            *net = vec_to_params(template, &result.x);
-            losses.push(result.loss);
+            *net = engine.net(&self.dims, &theta);
+            total += loss;
         }
-        losses
+        total / self.nets.len() as f64
+    }
+}
+
+/// MSE(V(obs), targets) + l2·‖θ‖² of a value net with parameters θ, as an L-BFGS
+/// objective: the loss is a forward pass and the MSE's gradient with respect to the
+/// values; the parameter gradient is the engine's reverse pass over that trace (so a
+/// rejected line-search point costs only its forward pass).
+pub struct ValueObjective<'a, E: Engine> {
+    engine: &'a E,
+    dims: &'a [usize],
+    obs: &'a E::Rows,
+    targets: &'a Tensor<E::B, 2>,
+    l2: f64,
+    /// The latest loss's point, for the gradient.
+    last: Option<Evaluated<E>>,
+}
+
+/// θ, its net and trace, and ∂MSE/∂values there.
+struct Evaluated<E: Engine> {
+    theta: Vec<f64>,
+    net: E::Net,
+    trace: E::Trace,
+    d_values: Tensor<E::B, 2>,
+}
+
+impl<'a, E: Engine> ValueObjective<'a, E> {
+    pub fn new(
+        engine: &'a E,
+        dims: &'a [usize],
+        obs: &'a E::Rows,
+        targets: &'a Tensor<E::B, 2>,
+        l2: f64,
+    ) -> Self {
+        Self {
+            engine,
+            dims,
+            obs,
+            targets,
+            l2,
+            last: None,
+        }
+    }
+
+    /// The loss at θ alone.
+    pub fn value(&self, theta: &[f64]) -> f64 {
+        let net = self.engine.net(self.dims, theta);
+        let values = self.engine.forward(&net, self.obs);
+        scalar(mse(values, self.targets.clone())) + self.l2 * dot(theta, theta)
+    }
+}
+
+impl<E: Engine> lbfgs::Objective for ValueObjective<'_, E> {
+    fn loss(&mut self, theta: &[f64]) -> f64 {
+        let net = self.engine.net(self.dims, theta);
+        let trace = self.engine.trace(&net, self.obs);
+        let targets = burn::tensor::Tensor::from_inner(self.targets.clone());
+        let (mse_value, d_values) =
+            value_and_grad(self.engine.output(&trace), |values| mse(values, targets));
+        self.last = Some(Evaluated {
+            theta: theta.to_vec(),
+            net,
+            trace,
+            d_values,
+        });
+        mse_value + self.l2 * dot(theta, theta)
+    }
+
+    fn gradient(&mut self) -> Vec<f64> {
+        let Evaluated {
+            theta,
+            net,
+            trace,
+            d_values,
+        } = self.last.take().expect("gradient() follows loss()");
+        let mut grad = self.engine.vjp(&net, &trace, d_values);
+        grad.iter_mut()
+            .zip(&theta)
+            .for_each(|(g, t)| *g += 2.0 * self.l2 * t);
+        grad
     }
 }

@@ -2,9 +2,7 @@
 //! reference calls SciPy's `fmin_l_bfgs_b(maxiter=25)`, whose line search is the
 //! Moré-Thuente one: the iterates differ, the objective and the budget are the same.
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
+use logo_nn::flat::dot;
 
 /// A function to minimise. Split in two so that a line-search candidate that is rejected
 /// costs only its loss: for the critics, a forward pass instead of forward + reverse.

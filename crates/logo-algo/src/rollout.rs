@@ -12,9 +12,8 @@
 //! for a count of 5000 (≈ 12% more work for the critics and the policy steps on sparse
 //! IDP). `Steps`: a fixed number of steps per copy.
 
-use burn::tensor::backend::Backend;
 use logo_envs::{EnvError, VecEnv};
-use logo_nn::GaussianPolicy;
+use logo_nn::ActingPolicy;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -161,20 +160,19 @@ impl Sampler {
     /// One batch of at least `samples` steps with `policy` (see [`RolloutMode`]).
     ///
     /// Each copy runs on its worker thread for its whole share of the batch, with no
-    /// barrier between steps, acting with a host copy of the policy and its own sampling
+    /// barrier between steps, acting with the policy's host copy and its own sampling
     /// stream (seeded from `rng`, one draw per copy per batch): the batch does not depend
     /// on the number of threads. Episodes mode gives each copy a quota of
     /// ceil(`samples` / copies) steps in whole episodes, then keeps the shortest prefix
     /// of at least `samples` steps of their episodes taken in turn (module doc).
-    pub fn collect<B: Backend>(
+    pub fn collect(
         &mut self,
         venv: &mut VecEnv,
-        policy: &GaussianPolicy<B>,
+        acting: &ActingPolicy,
         rng: &mut ChaCha8Rng,
         samples: usize,
     ) -> Result<Batch, EnvError> {
         let (n, obs_dim, act_dim) = (venv.num_envs(), venv.spec().obs_dim, venv.spec().act_dim);
-        let acting = policy.acting();
         let quota = samples.div_ceil(n);
         let mode = self.mode;
         let states: Vec<(Episode, u64)> = std::mem::take(&mut self.episodes)

@@ -1,109 +1,93 @@
-//! One LOGO iteration, top to bottom (Algorithm 1 of the paper, as the reference runs it):
+//! The training loop: [`Trainer::step`] is one iteration of LOGO (Algorithm 1, as the
+//! reference runs it), written once for every engine and every configured variant:
 //!
-//! 1. collect whole episodes with π_k (sparse rewards);
-//! 2. GAE advantages with the critics as they stand: env reward, and (while δ_k, updated
-//!    on the batch's mean sparse return, is above its floor) r_C = −log D(s,a) from last
-//!    iteration's D (or log π_b − log π_k) with the guidance critic;
-//! 3. fit both critics to their returns — beside steps 4-6, which do not need them;
-//! 4. improvement step: TRPO on the normalised advantages, KL ≤ δ → π_{k+½};
-//! 5. guidance step: a second TRPO step on the same batch with the ratio against π_k and
-//!    KL ≤ δ_k → π_{k+1}; then one discriminator update;
-//! 6. evaluation on the dense env with the mean action; then metrics and checkpoint.
+//! 1. collect whole episodes with π_k;
+//! 2. advantages of the env reward with the critic as it stands;
+//! 3. δ_k from the batch's mean sparse return; while δ_k is above its floor, the guidance
+//!    reward r_C = −log D(s, a) (last iteration's D) or log π_b − log π_k, and its
+//!    advantages with the guidance critic;
+//! 4. improvement step (`[improvement]`'s kind, KL ≈ δ = `max_kl`) → π_{k+½};
+//! 5. guidance step (`[guidance.update]`'s kind, KL ≈ δ_k, ratio against π_k) → π_{k+1};
+//! 6. one discriminator update;
+//! 7. evaluation on the dense env with the mean action; metrics row, checkpoint.
 //!
-//! Without `[guidance]` in the config it is plain TRPO.
+//! The critic fits run beside steps 4-7 ([`beside`]): the reference, too, computes both
+//! streams' advantages with the critics as they stand and fits them afterwards, so
+//! nothing in between needs them. Without `[guidance]` it is the improvement step alone
+//! (TRPO, PPO, ...).
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
-use burn::tensor::Tensor;
-use burn::tensor::backend::{AutodiffBackend, Backend};
 use logo_data::Demonstrations;
 use logo_envs::{Env, EnvFactory, EnvOptions, ResetPoint, RngState, VecEnv};
-use logo_nn::flat::{from_f64, params_to_vec};
+use logo_nn::engine::tensor;
+use logo_nn::flat::params_to_vec;
 use logo_nn::{
-    Checkpoint, CheckpointMeta, DiscriminatorConfig, GaussianPolicy, PolicyConfig,
-    load_reference_policy,
+    Checkpoint, CheckpointMeta, Cpu, Discriminator, DiscriminatorConfig, Engine, GaussianPolicy,
+    Policy, PolicyConfig, ValueNet, load_reference_policy,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::adam::Adam;
 use crate::config::TrainConfig;
-use crate::critic::Critic;
+use crate::critic::{CriticConfig, CriticSet};
 use crate::gae::{GaeInput, gae, normalise};
-use crate::guidance::{Adam, DeltaSchedule, DiscriminatorTrainer, behaviour_rewards};
+use crate::guidance::{DeltaSchedule, DiscriminatorTrainer, behaviour_rewards};
+use crate::metrics::IterationMetrics;
+use crate::policy_update::{PolicyUpdateConfig, StepBatch, UpdateState};
 use crate::rollout::{Batch, Sampler};
-use crate::trpo::{StepData, trpo_step};
-
-/// Anything that stops a run, as one message naming its cause.
-pub type TrainError = Box<dyn std::error::Error + Send + Sync>;
+pub use crate::run_dir::{RunDir, TrainError};
 
 /// Where r_C comes from.
-enum GuidanceSignal<B: AutodiffBackend> {
-    Discriminator(DiscriminatorTrainer<B>),
-    Behaviour(GaussianPolicy<B::InnerBackend>),
+enum GuidanceSignal<E: Engine> {
+    Discriminator(DiscriminatorTrainer<E>),
+    Behaviour(Policy<E>),
 }
 
-struct Guidance<B: AutodiffBackend> {
-    signal: GuidanceSignal<B>,
-    critic: Critic<B::InnerBackend>,
+/// LOGO's guidance step: its signal, δ_k, and its policy-update kind and state.
+struct Guidance<E: Engine> {
+    signal: GuidanceSignal<E>,
     schedule: DeltaSchedule,
+    update: PolicyUpdateConfig,
+    state: UpdateState,
 }
 
-/// The backend without autodiff: policy, critics, rollouts and policy steps run on it
-/// (their gradients are hand-written reverse passes, tested against autodiff); only the
-/// discriminator's Adam step uses the autodiff backend.
-type Inner<B> = <B as AutodiffBackend>::InnerBackend;
-
-/// One row of `metrics.csv`.
-#[derive(Debug, Clone, Default, serde::Serialize)]
-pub struct IterationMetrics {
-    pub iteration: usize,
-    pub samples: usize,
-    pub wall_s: f64,
-    pub episodes: usize,
-    pub train_sparse_return: f64,
-    pub train_dense_return: f64,
-    /// Mean dense return of the deterministic policy (NaN when not evaluated).
-    pub eval_dense_return: f64,
-    pub kl: f64,
-    pub guidance_kl: f64,
-    pub delta_k: f64,
-    pub critic_loss: f64,
-    pub disc_loss: f64,
-    /// Seconds spent in each phase of the iteration.
-    pub time: PhaseTimes,
+/// The critics of both reward streams (fitted beside the policy steps).
+struct Critics<E: Engine> {
+    env: CriticSet<E>,
+    guidance: Option<CriticSet<E>>,
 }
 
-/// Where an iteration's time goes.
-#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
-pub struct PhaseTimes {
-    pub sampling: f64,
-    pub critics: f64,
-    pub policy_step: f64,
-    pub guidance: f64,
-    pub discriminator: f64,
-    pub evaluation: f64,
+/// The networks as burn modules on the CPU: their definitions (the reference's
+/// initialisation), and the form checkpoints are written and read in, whatever the engine.
+struct Modules {
+    policy: GaussianPolicy<Cpu>,
+    critic: Vec<ValueNet<Cpu>>,
+    guidance_critic: Option<Vec<ValueNet<Cpu>>>,
+    discriminator: Option<Discriminator<Cpu>>,
 }
 
-const CSV_HEADER: &str = "iteration,samples,wall_s,episodes,train_sparse_return,train_dense_return,eval_dense_return,kl,guidance_kl,delta_k,critic_loss,disc_loss,t_sampling,t_critics,t_policy_step,t_guidance,t_discriminator,t_evaluation";
-
-pub struct Trainer<B: AutodiffBackend> {
+pub struct Trainer<E: Engine> {
     pub config: TrainConfig,
-    out_dir: PathBuf,
+    engine: E,
+    run: RunDir,
     venv: VecEnv,
     sampler: Sampler,
     eval_env: Box<dyn Env>,
-    policy: GaussianPolicy<Inner<B>>,
-    critic: Critic<Inner<B>>,
-    guidance: Option<Guidance<B>>,
+    policy: Policy<E>,
+    improvement: UpdateState,
+    critics: Critics<E>,
+    guidance: Option<Guidance<E>>,
+    modules: Modules,
+    /// The sampler's generator (each env copy's action noise is seeded from it).
     rng: ChaCha8Rng,
     iteration: usize,
     samples: usize,
     started: Instant,
     /// Wall seconds of the iterations before a resume.
     wall_offset: f64,
-    device: B::Device,
 }
 
 /// What a checkpoint holds besides the networks, for `--resume`.
@@ -114,20 +98,29 @@ struct ResumeState {
     sampler_rng: RngState,
     env_points: Vec<ResetPoint>,
     schedule: Option<DeltaSchedule>,
-    adam: Option<Adam>,
+    discriminator_adam: Option<Adam>,
+    improvement: UpdateState,
+    guidance: Option<UpdateState>,
+    critic_adam: Vec<Adam>,
+    guidance_critic_adam: Option<Vec<Adam>>,
 }
 
-/// GAE for one reward stream with `critic` as it stands (the reference fits the critic
-/// only after computing the advantages). Returns the normalised advantages and the
-/// returns the critic is then fitted to.
-fn advantages<B: Backend>(
+/// Normalised advantages and the critic's regression targets of one reward stream.
+struct Advantages {
+    normalised: Vec<f64>,
+    returns: Vec<f64>,
+}
+
+/// GAE for one reward stream with `critic` as it stands.
+fn advantages<E: Engine>(
+    engine: &E,
     config: &TrainConfig,
-    critic: &Critic<B>,
+    critic: &CriticSet<E>,
     batch: &Batch,
+    obs: &E::Rows,
     rewards: &[f64],
-    obs: &Tensor<B, 2>,
-) -> (Vec<f64>, Vec<f64>) {
-    let values = critic.values(obs.clone());
+) -> Advantages {
+    let values = critic.values(engine, obs);
     let mut truncation_values = vec![0.0; batch.len()];
     if !batch.truncations.is_empty() {
         let rows: Vec<f64> = batch
@@ -135,11 +128,7 @@ fn advantages<B: Backend>(
             .iter()
             .flat_map(|(_, o)| o.iter().copied())
             .collect();
-        let v = critic.values(from_f64(
-            &rows,
-            [batch.truncations.len(), batch.obs_dim],
-            &obs.device(),
-        ));
+        let v = critic.values(engine, &engine.rows(&rows, batch.obs_dim));
         for ((t, _), value) in batch.truncations.iter().zip(v) {
             truncation_values[*t] = value;
         }
@@ -157,7 +146,10 @@ fn advantages<B: Backend>(
         config.gae_lambda,
         config.cross_episode_bootstrap,
     );
-    (normalise(&adv), returns)
+    Advantages {
+        normalised: normalise(&adv),
+        returns,
+    }
 }
 
 /// Seconds between laps, for the per-phase times.
@@ -177,25 +169,33 @@ impl Stopwatch {
     }
 }
 
-/// Fits `critic` to `returns`; its mean final loss.
-fn fit_critic<B: Backend>(
-    config: &TrainConfig,
-    critic: &mut Critic<B>,
-    obs: &Tensor<B, 2>,
-    returns: &[f64],
-) -> f64 {
-    let losses = critic.fit(obs, returns, config.critic_l2, config.critic_iters);
-    losses.iter().sum::<f64>() / losses.len() as f64
+/// Runs `fits` beside `steps` on rayon's pool: the critic fits of an iteration, which
+/// nothing else reads before the next one, overlapped with its policy steps.
+fn beside<F, S, T>(fits: F, steps: S) -> ((f64, f64, f64), T)
+where
+    F: FnOnce() -> (f64, f64) + Send,
+    S: FnOnce() -> T + Send,
+    T: Send,
+{
+    rayon::join(
+        || {
+            let mut clock = Stopwatch::start();
+            let (env, guidance) = fits();
+            (env, guidance, clock.lap())
+        },
+        steps,
+    )
 }
 
 /// Mean dense return of the mean-action policy over whole episodes of at least
 /// `config.eval_steps` steps in all, from fixed initial states.
-fn evaluate<B: Backend>(
+fn evaluate<E: Engine>(
+    engine: &E,
     config: &TrainConfig,
-    policy: &GaussianPolicy<B>,
+    policy: &Policy<E>,
     eval_env: &mut dyn Env,
 ) -> Result<f64, TrainError> {
-    let policy = policy.acting();
+    let policy = policy.acting(engine);
     let spec = eval_env.spec().clone();
     let mut obs = vec![0.0; spec.obs_dim];
     let (mut steps, mut returns) = (0, Vec::new());
@@ -220,27 +220,34 @@ fn evaluate<B: Backend>(
     Ok(returns.iter().sum::<f64>() / returns.len() as f64)
 }
 
-impl<B: AutodiffBackend> Trainer<B> {
-    /// A new run writing into `out_dir` (metrics.csv is started afresh).
-    pub fn new(config: TrainConfig, out_dir: &Path) -> Result<Self, TrainError> {
-        let trainer = Self::build(config, out_dir)?;
-        std::fs::create_dir_all(out_dir)?;
-        std::fs::write(
-            out_dir.join("config.toml"),
-            toml::to_string(&trainer.config)?,
-        )?;
-        let mut csv = std::fs::File::create(out_dir.join("metrics.csv"))?;
-        writeln!(csv, "{CSV_HEADER}")?;
-        Ok(trainer)
+/// The generator that shuffles the minibatches of iteration `k`'s step `which` (0:
+/// improvement, 1: guidance): derived from the seed, so a resumed run draws the same.
+fn update_rng(seed: u64, k: usize, which: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(1 + 2 * k as u64 + which);
+    rng
+}
+
+impl<E: Engine> Trainer<E> {
+    /// A new run on `engine` writing into `out_dir` (metrics.csv is started afresh).
+    pub fn new(engine: E, config: TrainConfig, out_dir: &Path) -> Result<Self, TrainError> {
+        config.validate().map_err(|e| format!("config: {e}"))?;
+        let run = RunDir::create(out_dir, &config)?;
+        Self::build(engine, config, run)
     }
 
-    /// Continues the run in `out_dir` from its checkpoint: networks, the discriminator's
-    /// Adam state, the δ schedule, the sampler's and every env copy's generator, the
-    /// iteration and sample counts. Rows of metrics.csv after the checkpoint (a killed
-    /// run's last iterations) are dropped and redone; the run then ends with the same
-    /// checkpoint as one never interrupted. `iterations` extends or shortens the run.
-    pub fn resume(out_dir: &Path, iterations: Option<usize>) -> Result<Self, TrainError> {
-        let path = out_dir.join("checkpoint.safetensors");
+    /// Continues the run in `out_dir` from its checkpoint: networks, optimiser states,
+    /// the δ schedule, the sampler's and every env copy's generator, the iteration and
+    /// sample counts. Rows of metrics.csv after the checkpoint (a killed run's last
+    /// iterations) are dropped and redone; the run then ends with the same checkpoint as
+    /// one never interrupted. `iterations` extends or shortens the run.
+    pub fn resume(
+        engine: E,
+        out_dir: &Path,
+        iterations: Option<usize>,
+    ) -> Result<Self, TrainError> {
+        let run = RunDir::open(out_dir);
+        let path = run.checkpoint_path();
         let ckpt = Checkpoint::load(&path)?;
         let bad = |what: &str| format!("{}: {what}", path.display());
         let extra = &ckpt.meta.extra;
@@ -258,50 +265,59 @@ impl<B: AutodiffBackend> Trainer<B> {
         if let Some(n) = iterations {
             config.iterations = n;
         }
-        let mut trainer = Self::build(config, out_dir)?;
-        trainer.policy = ckpt.apply("policy", trainer.policy.clone())?;
-        trainer.critic.nets = ckpt.apply("critic", trainer.critic.nets.clone())?;
-        if let Some(g) = trainer.guidance.as_mut() {
-            g.critic.nets = ckpt.apply("guidance_critic", g.critic.nets.clone())?;
+        config
+            .validate()
+            .map_err(|e| bad(&format!("metadata config: {e}")))?;
+        let mut trainer = Self::build(engine, config, run)?;
+        let t = &mut trainer;
+        t.modules.policy = ckpt.apply("policy", t.modules.policy.clone())?;
+        t.policy = Policy::from_module(&t.engine, &t.modules.policy);
+        t.modules.critic = ckpt.apply("critic", t.modules.critic.clone())?;
+        t.critics.env = CriticSet::new(&t.engine, &t.config.critic, &t.modules.critic);
+        t.critics.env.adam = state.critic_adam.clone();
+        t.improvement = state.improvement.clone();
+        if let Some(g) = t.guidance.as_mut() {
+            let modules = t
+                .modules
+                .guidance_critic
+                .take()
+                .expect("built with guidance");
+            let modules = ckpt.apply("guidance_critic", modules)?;
+            let config = t.config.guidance_critic().expect("guidance").clone();
+            let mut critic = CriticSet::new(&t.engine, &config, &modules);
+            critic.adam = state.guidance_critic_adam.clone().unwrap_or_default();
+            t.critics.guidance = Some(critic);
+            t.modules.guidance_critic = Some(modules);
             g.schedule = state
                 .schedule
                 .clone()
                 .ok_or_else(|| bad("no δ schedule in the resume state"))?;
+            g.state = state.guidance.clone().unwrap_or_default();
             if let GuidanceSignal::Discriminator(d) = &mut g.signal {
-                d.disc = ckpt.apply("discriminator", d.disc.clone())?;
-                d.optim = state.adam.clone().unwrap_or_default();
+                let module = t
+                    .modules
+                    .discriminator
+                    .take()
+                    .expect("built with a discriminator");
+                let module = ckpt.apply("discriminator", module)?;
+                d.net = t
+                    .engine
+                    .net(&module.net.dims(), &params_to_vec(&module.net));
+                d.optim = state.discriminator_adam.clone().unwrap_or_default();
+                t.modules.discriminator = Some(module);
             }
         }
-        trainer.rng = state.sampler_rng.to_rng().map_err(|e| bad(&e))?;
-        trainer.venv.restore_reset_points(&state.env_points)?;
-        trainer.iteration = state.iteration;
-        trainer.samples = state.samples;
+        t.rng = state.sampler_rng.to_rng().map_err(|e| bad(&e))?;
+        t.venv.restore_reset_points(&state.env_points)?;
+        t.iteration = state.iteration;
+        t.samples = state.samples;
         // metrics.csv: keep the rows up to the checkpoint, continue its clock.
-        let csv_path = out_dir.join("metrics.csv");
-        let csv = std::fs::read_to_string(&csv_path).unwrap_or_default();
-        let mut kept = vec![CSV_HEADER.to_string()];
-        let mut wall = 0.0;
-        for line in csv.lines().skip(1) {
-            let mut fields = line.split(',');
-            let iteration: Option<usize> = fields.next().and_then(|f| f.parse().ok());
-            if iteration.is_some_and(|i| i < state.iteration) {
-                wall = fields.nth(1).and_then(|f| f.parse().ok()).unwrap_or(wall);
-                kept.push(line.to_string());
-            }
-        }
-        std::fs::write(&csv_path, kept.join("\n") + "\n")?;
-        trainer.wall_offset = wall;
+        let kept = t.run.keep_metrics_before(state.iteration)?;
+        t.wall_offset = kept.last().map_or(0.0, |row| row.wall_s);
         Ok(trainer)
     }
 
-    fn build(config: TrainConfig, out_dir: &Path) -> Result<Self, TrainError> {
-        let device = B::Device::default();
-        // burn draws initial weights from one process-wide generator: hold it from the
-        // seeding to the last network built, or trainers built at the same time on other
-        // threads (tests, sweeps) would interleave their draws and lose reproducibility.
-        static INIT: std::sync::Mutex<()> = std::sync::Mutex::new(());
-        let _init = INIT.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        B::seed(&device, config.seed);
+    fn build(engine: E, config: TrainConfig, run: RunDir) -> Result<Self, TrainError> {
         let factory = EnvFactory::new(&config.env, &EnvOptions::default())?;
         let spec = factory.spec().clone();
         let venv = VecEnv::new(&factory, config.num_envs, config.threads, config.seed)?;
@@ -314,103 +330,62 @@ impl<B: AutodiffBackend> Trainer<B> {
             )
             .into());
         }
-        let policy = match &config.init_policy {
-            Some(path) => {
-                let p = load_reference_policy::<Inner<B>>(path, &device)?;
-                if (p.obs_dim(), p.act_dim()) != (spec.obs_dim, spec.act_dim) {
-                    return Err(format!(
-                        "init_policy {}: obs/action dims ({}, {}) do not match {} ({}, {})",
-                        path.display(),
-                        p.obs_dim(),
-                        p.act_dim(),
-                        spec.id,
-                        spec.obs_dim,
-                        spec.act_dim
-                    )
-                    .into());
-                }
-                p
-            }
-            None => PolicyConfig {
-                obs_dim: spec.obs_dim,
-                act_dim: spec.act_dim,
-                hidden: config.policy_hidden.clone(),
-                log_std_init: config.log_std_init,
-            }
-            .init(&device),
+        let demos = match config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
+            Some(path) => Some(
+                Demonstrations::load(path, spec.obs_dim, spec.act_dim)
+                    .map_err(|e| format!("guidance.demos: {e}"))?,
+            ),
+            None => None,
         };
-        let critic = Critic::new(config.critic, spec.obs_dim, &config.critic_hidden, &device);
+        let modules = Modules::init(&config, spec.obs_dim, spec.act_dim, demos.is_some())?;
+
+        let policy = Policy::from_module(&engine, &modules.policy);
+        let critics = Critics {
+            env: CriticSet::new(&engine, &config.critic, &modules.critic),
+            guidance: config
+                .guidance_critic()
+                .zip(modules.guidance_critic.as_ref())
+                .map(|(c, m)| CriticSet::new(&engine, c, m)),
+        };
         let guidance = match &config.guidance {
             None => None,
             Some(g) => {
-                let signal = if let Some(path) = &g.behaviour_policy {
-                    GuidanceSignal::Behaviour(load_reference_policy(path, &device)?)
-                } else {
-                    let path = g
-                        .demos
-                        .as_ref()
-                        .expect("validated: demos or behaviour_policy");
-                    let demos = Demonstrations::load(path, spec.obs_dim, spec.act_dim)
-                        .map_err(|e| format!("guidance.demos: {e}"))?;
-                    let observe = g.observe.unwrap_or(spec.obs_dim);
-                    if observe == 0 || observe > spec.obs_dim {
-                        return Err(format!(
-                            "guidance.observe must be in 1..={}, got {observe}",
-                            spec.obs_dim
-                        )
-                        .into());
-                    }
-                    let dc = DiscriminatorConfig {
-                        observe,
-                        act_dim: spec.act_dim,
-                        hidden: g.discriminator_hidden.clone(),
-                    };
-                    GuidanceSignal::Discriminator(DiscriminatorTrainer::new(
-                        &dc,
-                        &demos,
-                        g.discriminator_lr,
-                        &device,
-                    ))
+                let signal = match (&g.behaviour_policy, &demos, &modules.discriminator) {
+                    (Some(path), _, _) => GuidanceSignal::Behaviour(Policy::from_module(
+                        &engine,
+                        &load_reference_policy::<Cpu>(path, &Default::default())?,
+                    )),
+                    (None, Some(demos), Some(module)) => GuidanceSignal::Discriminator(
+                        DiscriminatorTrainer::new(&engine, module, demos, g.discriminator_lr),
+                    ),
+                    _ => unreachable!("validated: demos or behaviour_policy"),
                 };
                 Some(Guidance {
                     signal,
-                    critic: Critic::new(
-                        config.critic,
-                        spec.obs_dim,
-                        &config.critic_hidden,
-                        &device,
-                    ),
                     schedule: DeltaSchedule::new(g.delta0, g.alpha, g.warmup),
+                    update: config.guidance_update().expect("guidance").clone(),
+                    state: UpdateState::default(),
                 })
             }
         };
-        let trainer = Self {
+        Ok(Self {
             rng: ChaCha8Rng::seed_from_u64(config.seed),
             sampler: Sampler::new(config.rollout, config.num_envs),
             config,
-            out_dir: out_dir.to_path_buf(),
+            engine,
+            run,
             venv,
             eval_env,
             policy,
-            critic,
+            improvement: UpdateState::default(),
+            critics,
             guidance,
+            modules,
             iteration: 0,
             samples: 0,
             started: Instant::now(),
             wall_offset: 0.0,
-            device,
-        };
-        // burn initialises parameters lazily, at their first use: draw them all now, under
-        // the lock.
-        let _ = params_to_vec(&trainer.policy);
-        let _ = params_to_vec(&trainer.critic.nets);
-        if let Some(g) = &trainer.guidance {
-            let _ = params_to_vec(&g.critic.nets);
-            if let GuidanceSignal::Discriminator(d) = &g.signal {
-                let _ = params_to_vec(&d.disc);
-            }
-        }
-        Ok(trainer)
+        })
     }
 
     pub fn iteration(&self) -> usize {
@@ -421,179 +396,187 @@ impl<B: AutodiffBackend> Trainer<B> {
         self.iteration >= self.config.iterations
     }
 
-    pub fn policy(&self) -> &GaussianPolicy<Inner<B>> {
+    pub fn engine(&self) -> &E {
+        &self.engine
+    }
+
+    pub fn policy(&self) -> &Policy<E> {
         &self.policy
+    }
+
+    pub fn run_dir(&self) -> &Path {
+        self.run.path()
     }
 
     /// Runs one iteration and appends its row to `metrics.csv`.
     pub fn step(&mut self) -> Result<IterationMetrics, TrainError> {
         let k = self.iteration;
-        let mut time = PhaseTimes::default();
+        let engine = &self.engine;
+        let config = &self.config;
+        let mut row = IterationMetrics {
+            iteration: k,
+            ..IterationMetrics::default()
+        };
         let mut clock = Stopwatch::start();
-        // 1. Collect with π_k.
+
+        // 1. Collect (s, a, r) with π_k; the batch goes to the engine once.
         let batch = self.sampler.collect(
             &mut self.venv,
-            &self.policy,
+            &self.policy.acting(engine),
             &mut self.rng,
-            self.config.samples_per_iter,
+            config.samples_per_iter,
         )?;
-        time.sampling = clock.lap();
-        let n = batch.len();
-        let obs = from_f64::<Inner<B>, 2>(&batch.obs, [n, batch.obs_dim], &self.device);
-        let actions = from_f64::<Inner<B>, 2>(&batch.actions, [n, batch.act_dim], &self.device);
-        let logp_old = self.policy.log_prob(obs.clone(), actions.clone());
-        let data = StepData {
-            obs: obs.clone(),
-            actions: actions.clone(),
-            logp_old: logp_old.clone(),
-        };
+        let obs = engine.rows(&batch.obs, batch.obs_dim);
+        let actions = tensor(engine, &batch.actions, [batch.len(), batch.act_dim]);
+        let logp_k = self.policy.log_prob(engine, &obs, &actions);
+        row.t_sampling = clock.lap();
 
-        // 2. Advantages of both reward streams with the critics as they stand; δ_k.
-        let (adv, returns) = advantages(&self.config, &self.critic, &batch, &batch.rewards, &obs);
-        let mut guidance_batch = None; // (advantages, returns) of r_C, while guidance is on
-        let mut delta_k = 0.0;
+        // 2. Advantages of the env reward, with the critic as it stands.
+        let env = advantages(
+            engine,
+            config,
+            &self.critics.env,
+            &batch,
+            &obs,
+            &batch.rewards,
+        );
+
+        // 3. δ_k, then the guidance reward and its advantages while δ_k is above its floor.
+        let mut guidance_advantages = None;
+        let mut discriminator_inputs = None;
         if let Some(g) = &mut self.guidance {
             g.schedule.update(k, batch.mean_return());
-            delta_k = g.schedule.delta;
+            row.delta_k = g.schedule.delta;
             if g.schedule.guidance_on() {
                 let rewards = match &g.signal {
-                    GuidanceSignal::Discriminator(d) => d.rewards(obs.clone(), actions.clone()),
+                    GuidanceSignal::Discriminator(d) => {
+                        let inputs = d.inputs(engine, &batch.obs, &batch.actions);
+                        let rewards = d.rewards(engine, &inputs);
+                        discriminator_inputs = Some(inputs);
+                        rewards
+                    }
                     GuidanceSignal::Behaviour(pi_b) => {
-                        behaviour_rewards(pi_b, &logp_old, &obs, &actions)
+                        behaviour_rewards(engine, pi_b, &obs, &actions, &logp_k)
                     }
                 };
-                guidance_batch = Some(advantages(&self.config, &g.critic, &batch, &rewards, &obs));
+                let critic = self
+                    .critics
+                    .guidance
+                    .as_ref()
+                    .expect("guidance has a critic");
+                guidance_advantages =
+                    Some(advantages(engine, config, critic, &batch, &obs, &rewards));
             }
         }
-        time.critics = clock.lap();
-        self.iteration += 1;
-        self.samples += n;
-        let evaluate_now = k.is_multiple_of(self.config.eval_every) || self.done();
+        row.t_advantages = clock.lap();
+        let data = StepBatch {
+            advantages: tensor(engine, &env.normalised, [batch.len()]),
+            obs: obs.clone(),
+            actions,
+            logp_old: logp_k,
+            rows: batch.len(),
+        };
 
-        // 3-6. The critic fits need nothing that follows and nothing that follows needs
-        // them until the next iteration's advantages, so they run beside the policy steps,
-        // the discriminator update and the evaluation (both halves on rayon's pool;
-        // results do not depend on the overlap).
-        let Self {
-            config,
-            critic,
-            guidance,
-            policy,
-            eval_env,
-            ..
-        } = self;
-        let (guidance_critic, mut guidance_signal) = match guidance {
-            Some(g) => (Some(&mut g.critic), Some(&mut g.signal)),
-            None => (None, None),
-        };
-        let fit_critics = || {
-            let mut clock = Stopwatch::start();
-            let (env_loss, _) = rayon::join(
-                || fit_critic(config, critic, &obs, &returns),
-                || {
-                    if let (Some(critic), Some((_, returns))) = (guidance_critic, &guidance_batch) {
-                        fit_critic(config, critic, &obs, returns);
-                    }
-                },
-            );
-            (env_loss, clock.lap())
-        };
-        let steps = || -> Result<_, TrainError> {
-            let mut times = PhaseTimes::default();
-            let mut clock = Stopwatch::start();
-            // 4. Improvement step.
-            let (next, improvement) = trpo_step(
-                policy.clone(),
-                &data,
-                &adv,
-                config.max_kl,
-                &config.policy_step,
-            );
-            *policy = next;
-            times.policy_step = clock.lap();
-            // 5. Guidance step on the same batch, then the discriminator update.
-            let (mut guidance_kl, mut disc_loss) = (0.0, f64::NAN);
-            if let Some((adv_c, _)) = &guidance_batch {
-                let (next, stats) =
-                    trpo_step(policy.clone(), &data, adv_c, delta_k, &config.policy_step);
+        self.iteration += 1;
+        self.samples += batch.len();
+        let evaluate_now = k.is_multiple_of(config.eval_every) || self.done();
+        let (policy, improvement, guidance, eval_env) = (
+            &mut self.policy,
+            &mut self.improvement,
+            &mut self.guidance,
+            &mut self.eval_env,
+        );
+        let ((critic_loss, guidance_critic_loss, fit_seconds), stepped) = beside(
+            || {
+                let mut rng = update_rng(config.seed, k, 2);
+                let env_loss = self.critics.env.fit(engine, &obs, &env.returns, &mut rng);
+                let guidance_loss = match (&mut self.critics.guidance, &guidance_advantages) {
+                    (Some(critic), Some(adv)) => critic.fit(engine, &obs, &adv.returns, &mut rng),
+                    _ => f64::NAN,
+                };
+                (env_loss, guidance_loss)
+            },
+            || -> Result<_, TrainError> {
+                let mut clock = Stopwatch::start();
+                let mut row = IterationMetrics::default();
+
+                // 4. Improvement step: π_k → π_{k+½}, KL ≈ δ.
+                let (next, stats) = config.improvement.update(
+                    engine,
+                    policy,
+                    &data,
+                    config.max_kl,
+                    improvement,
+                    &mut update_rng(config.seed, k, 0),
+                );
                 *policy = next;
-                guidance_kl = stats.kl;
-                times.guidance = clock.lap();
-                if let Some(GuidanceSignal::Discriminator(d)) = guidance_signal.as_deref_mut() {
-                    disc_loss = d.update(
-                        Tensor::from_inner(obs.clone()),
-                        Tensor::from_inner(actions.clone()),
+                row.improvement(&stats);
+                row.t_policy_step = clock.lap();
+
+                // 5. Guidance step on the same batch: π_{k+½} → π_{k+1}, KL ≈ δ_k, the
+                //    ratio against π_k.
+                let mut guidance_stats = None;
+                if let (Some(g), Some(adv)) = (guidance.as_mut(), &guidance_advantages) {
+                    let advantages = tensor(engine, &adv.normalised, [data.rows]);
+                    let (next, stats) = g.update.update(
+                        engine,
+                        policy,
+                        &data.with_advantages(advantages),
+                        g.schedule.delta,
+                        &mut g.state,
+                        &mut update_rng(config.seed, k, 1),
                     );
+                    *policy = next;
+                    guidance_stats = Some(stats);
                 }
-                times.discriminator = clock.lap();
-            }
-            // 6. Evaluate.
-            let eval = if evaluate_now {
-                evaluate(config, policy, eval_env.as_mut())?
-            } else {
-                f64::NAN
-            };
-            times.evaluation = clock.lap();
-            Ok((improvement, guidance_kl, disc_loss, eval, times))
-        };
-        let ((critic_loss, fit_time), stepped) = rayon::join(fit_critics, steps);
-        let (improvement, guidance_kl, disc_loss, eval, step_times) = stepped?;
-        time = PhaseTimes {
-            sampling: time.sampling,
-            critics: time.critics + fit_time,
-            ..step_times
-        };
-        let metrics = IterationMetrics {
+                row.guidance(guidance_stats.as_ref());
+                row.t_guidance = clock.lap();
+
+                // 6. Discriminator update: policy pairs 1, demonstration pairs 0.
+                row.disc_loss = f64::NAN;
+                if let (Some(g), Some(inputs)) = (guidance.as_mut(), &discriminator_inputs)
+                    && let GuidanceSignal::Discriminator(d) = &mut g.signal
+                {
+                    row.disc_loss = d.update(engine, inputs);
+                }
+                row.t_discriminator = clock.lap();
+
+                // 7. Evaluate the mean action on the dense env.
+                row.eval_dense_return = if evaluate_now {
+                    evaluate(engine, config, policy, eval_env.as_mut())?
+                } else {
+                    f64::NAN
+                };
+                row.t_evaluation = clock.lap();
+                Ok(row)
+            },
+        );
+        let steps = stepped?;
+        row = IterationMetrics {
             iteration: k,
             samples: self.samples,
             wall_s: self.wall_offset + self.started.elapsed().as_secs_f64(),
             episodes: batch.episode_returns.len(),
             train_sparse_return: batch.mean_return(),
             train_dense_return: batch.mean_dense_return(),
-            eval_dense_return: eval,
-            kl: improvement.kl,
-            guidance_kl,
-            delta_k,
+            delta_k: row.delta_k,
+            mean_log_std: self.policy.log_std.iter().sum::<f64>() / self.policy.act_dim() as f64,
             critic_loss,
-            disc_loss,
-            time,
+            guidance_critic_loss,
+            t_sampling: row.t_sampling,
+            t_advantages: row.t_advantages,
+            t_critics: fit_seconds,
+            ..steps
         };
-        self.append_csv(&metrics)?;
+        self.run.append(&row)?;
         if self.iteration.is_multiple_of(self.config.checkpoint_every) || self.done() {
-            self.save_checkpoint(&self.out_dir.join("checkpoint.safetensors"))?;
+            self.save_checkpoint(&self.run.checkpoint_path())?;
         }
-        Ok(metrics)
-    }
-
-    fn append_csv(&self, m: &IterationMetrics) -> std::io::Result<()> {
-        let mut f = std::fs::OpenOptions::new()
-            .append(true)
-            .open(self.out_dir.join("metrics.csv"))?;
-        writeln!(
-            f,
-            "{},{},{:.3},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
-            m.iteration,
-            m.samples,
-            m.wall_s,
-            m.episodes,
-            m.train_sparse_return,
-            m.train_dense_return,
-            m.eval_dense_return,
-            m.kl,
-            m.guidance_kl,
-            m.delta_k,
-            m.critic_loss,
-            m.disc_loss,
-            m.time.sampling,
-            m.time.critics,
-            m.time.policy_step,
-            m.time.guidance,
-            m.time.discriminator,
-            m.time.evaluation
-        )
+        Ok(row)
     }
 
     pub fn save_checkpoint(&self, path: &Path) -> Result<(), TrainError> {
+        let engine = &self.engine;
         let spec = self.venv.spec();
         let algorithm = if self.guidance.is_some() {
             "logo"
@@ -601,27 +584,23 @@ impl<B: AutodiffBackend> Trainer<B> {
             "trpo"
         };
         let mut meta = CheckpointMeta::new(&spec.id, spec.obs_dim, spec.act_dim, algorithm);
-        let hidden = |layers: usize| {
-            self.policy.mean.layers[..layers]
-                .iter()
-                .map(|l| l.weight.dims()[1])
-                .collect()
-        };
+        let dims = &self.policy.dims;
         meta.networks
-            .insert("policy".into(), hidden(self.policy.mean.layers.len() - 1));
+            .insert("policy".into(), dims[1..dims.len() - 1].to_vec());
         meta.networks
-            .insert("critic".into(), self.config.critic_hidden.clone());
+            .insert("critic".into(), self.config.critic.hidden.clone());
         meta.iteration = self.iteration as u64;
         meta.seed = self.config.seed;
-        let (schedule, adam) = match &self.guidance {
+        let (schedule, discriminator_adam, guidance_state) = match &self.guidance {
             Some(g) => (
                 Some(g.schedule.clone()),
                 match &g.signal {
                     GuidanceSignal::Discriminator(d) => Some(d.optim.clone()),
                     GuidanceSignal::Behaviour(_) => None,
                 },
+                Some(g.state.clone()),
             ),
-            None => (None, None),
+            None => (None, None, None),
         };
         // Only between batches that leave every copy freshly reset can the envs be
         // restored exactly (mid-episode MuJoCo state also holds solver warm-starts).
@@ -632,26 +611,129 @@ impl<B: AutodiffBackend> Trainer<B> {
                 sampler_rng: RngState::of(&self.rng),
                 env_points: self.venv.reset_points()?,
                 schedule,
-                adam,
+                discriminator_adam,
+                improvement: self.improvement.clone(),
+                guidance: guidance_state,
+                critic_adam: self.critics.env.adam.clone(),
+                guidance_critic_adam: self.critics.guidance.as_ref().map(|c| c.adam.clone()),
             })
         } else {
             None
         };
         meta.extra = serde_json::json!({
             "samples": self.samples,
+            "engine": engine.describe(),
             "config": self.config,
             "resume": resume,
         });
         let mut ckpt = Checkpoint::new(meta);
-        ckpt.insert("policy", &self.policy);
-        ckpt.insert("critic", &self.critic.nets);
-        if let Some(g) = &self.guidance {
-            ckpt.insert("guidance_critic", &g.critic.nets);
-            if let GuidanceSignal::Discriminator(d) = &g.signal {
-                ckpt.insert("discriminator", &d.disc);
-            }
+        ckpt.insert(
+            "policy",
+            &self.policy.to_module(engine, self.modules.policy.clone()),
+        );
+        ckpt.insert(
+            "critic",
+            &self.critics.env.to_modules(engine, &self.modules.critic),
+        );
+        if let (Some(critic), Some(templates)) =
+            (&self.critics.guidance, &self.modules.guidance_critic)
+        {
+            ckpt.insert("guidance_critic", &critic.to_modules(engine, templates));
+        }
+        if let Some(Guidance {
+            signal: GuidanceSignal::Discriminator(d),
+            ..
+        }) = &self.guidance
+        {
+            let template = self.modules.discriminator.clone().expect("a discriminator");
+            ckpt.insert("discriminator", &d.to_module(engine, template));
         }
         ckpt.save(path)?;
         Ok(())
+    }
+}
+
+impl Modules {
+    /// Every network of the run, initialised from the seed (or the policy from
+    /// `init_policy`). burn draws initial weights from one process-wide generator: it is
+    /// held from the seeding to the last parameter drawn, or trainers built at the same
+    /// time on other threads (tests, sweeps) would interleave their draws.
+    fn init(
+        config: &TrainConfig,
+        obs_dim: usize,
+        act_dim: usize,
+        discriminator: bool,
+    ) -> Result<Self, TrainError> {
+        use burn::tensor::backend::Backend;
+        static INIT: std::sync::Mutex<()> = std::sync::Mutex::new(());
+        let _init = INIT.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let device = Default::default();
+        Cpu::seed(&device, config.seed);
+        let policy = match &config.init_policy {
+            Some(path) => {
+                let p = load_reference_policy::<Cpu>(path, &device)?;
+                if (p.obs_dim(), p.act_dim()) != (obs_dim, act_dim) {
+                    return Err(format!(
+                        "init_policy {}: obs/action dims ({}, {}) do not match {} ({obs_dim}, {act_dim})",
+                        path.display(),
+                        p.obs_dim(),
+                        p.act_dim(),
+                        config.env,
+                    )
+                    .into());
+                }
+                p
+            }
+            None => PolicyConfig {
+                obs_dim,
+                act_dim,
+                hidden: config.policy_hidden.clone(),
+                log_std_init: config.log_std_init,
+            }
+            .init(&device),
+        };
+        let critic_nets = |c: &CriticConfig| -> Vec<ValueNet<Cpu>> {
+            (0..c.num_nets())
+                .map(|_| c.net(obs_dim).init(&device))
+                .collect()
+        };
+        let critic = critic_nets(&config.critic);
+        let guidance_critic = config.guidance_critic().map(critic_nets);
+        let discriminator = match (&config.guidance, discriminator) {
+            (Some(g), true) => {
+                let observe = g.observe.unwrap_or(obs_dim);
+                if observe > obs_dim {
+                    return Err(format!(
+                        "guidance.observe must be in 1..={obs_dim}, got {observe}"
+                    )
+                    .into());
+                }
+                Some(
+                    DiscriminatorConfig {
+                        observe,
+                        act_dim,
+                        hidden: g.discriminator_hidden.clone(),
+                    }
+                    .init(&device),
+                )
+            }
+            _ => None,
+        };
+        // burn initialises parameters lazily, at their first use: draw them all now, under
+        // the lock, in a fixed order.
+        let _ = params_to_vec(&policy);
+        let _ = params_to_vec(&critic);
+        if let Some(nets) = &guidance_critic {
+            let _ = params_to_vec(nets);
+        }
+        if let Some(d) = &discriminator {
+            let _ = params_to_vec(d);
+        }
+        Ok(Self {
+            policy,
+            critic,
+            guidance_critic,
+            discriminator,
+        })
     }
 }

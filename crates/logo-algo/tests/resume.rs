@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use logo_algo::{TrainConfig, Trainer};
-use logo_nn::CpuAutodiff;
+use logo_nn::Kernels;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("logo-resume-{}-{name}", std::process::id()));
@@ -24,11 +24,12 @@ samples_per_iter = 300
 num_envs = 3
 threads = 2
 policy_hidden = [16, 16]
-critic_hidden = [16, 16]
-critic_iters = 4
 eval_steps = 60
 checkpoint_every = 2
 seed = 11
+[critic]
+hidden = [16, 16]
+fit = { method = "lbfgs", iterations = 4 }
 "#,
     );
     if guidance {
@@ -61,19 +62,19 @@ fn metrics(dir: &Path) -> Vec<String> {
 fn check(guidance: bool) {
     let name = if guidance { "logo" } else { "trpo" };
     let whole = scratch(&format!("{name}-whole"));
-    let mut trainer = Trainer::<CpuAutodiff>::new(config(&whole, guidance), &whole).unwrap();
+    let mut trainer = Trainer::new(Kernels, config(&whole, guidance), &whole).unwrap();
     while !trainer.done() {
         trainer.step().unwrap();
     }
     drop(trainer);
 
     let killed = scratch(&format!("{name}-killed"));
-    let mut trainer = Trainer::<CpuAutodiff>::new(config(&killed, guidance), &killed).unwrap();
+    let mut trainer = Trainer::new(Kernels, config(&killed, guidance), &killed).unwrap();
     for _ in 0..3 {
         trainer.step().unwrap(); // checkpoint after iteration 2, then one more row
     }
     drop(trainer); // killed before the next checkpoint
-    let mut resumed = Trainer::<CpuAutodiff>::resume(&killed, None).unwrap();
+    let mut resumed = Trainer::resume(Kernels, &killed, None).unwrap();
     assert_eq!(resumed.iteration(), 2);
     while !resumed.done() {
         resumed.step().unwrap();
@@ -105,12 +106,12 @@ fn a_steps_mode_run_says_it_cannot_be_resumed() {
     let mut config = config(&dir, false);
     config.rollout = logo_algo::rollout::RolloutMode::Steps;
     config.iterations = 2;
-    let mut trainer = Trainer::<CpuAutodiff>::new(config, &dir).unwrap();
+    let mut trainer = Trainer::new(Kernels, config, &dir).unwrap();
     while !trainer.done() {
         trainer.step().unwrap();
     }
     drop(trainer);
-    let err = Trainer::<CpuAutodiff>::resume(&dir, None)
+    let err = Trainer::resume(Kernels, &dir, None)
         .err()
         .unwrap()
         .to_string();

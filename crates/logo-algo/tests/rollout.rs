@@ -6,10 +6,12 @@ use logo_nn::{Cpu, PolicyConfig};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-fn setup() -> (VecEnv, logo_nn::GaussianPolicy<Cpu>) {
+fn setup() -> (VecEnv, logo_nn::ActingPolicy) {
     let factory = EnvFactory::new("Hopper-v4", &EnvOptions::default()).unwrap();
     let venv = VecEnv::new(&factory, 3, 1, 5).unwrap();
-    let policy = PolicyConfig::new(11, 3).init::<Cpu>(&Default::default());
+    let policy = PolicyConfig::new(11, 3)
+        .init::<Cpu>(&Default::default())
+        .acting();
     (venv, policy)
 }
 
@@ -71,7 +73,9 @@ fn episodes_mode_collects_whole_episodes_past_the_sample_count() {
 #[test]
 fn batches_do_not_depend_on_the_number_of_threads() {
     let factory = EnvFactory::new("SparseHopper-v4", &EnvOptions::default()).unwrap();
-    let policy = PolicyConfig::new(11, 3).init::<Cpu>(&Default::default());
+    let policy = PolicyConfig::new(11, 3)
+        .init::<Cpu>(&Default::default())
+        .acting();
     let run = |threads: usize, mode: RolloutMode| {
         let mut venv = VecEnv::new(&factory, 3, threads, 9).unwrap();
         let mut sampler = Sampler::new(mode, 3);

@@ -3,6 +3,7 @@
 mod bench;
 mod bench_nn;
 mod data;
+mod engine;
 mod eval;
 mod rollout;
 mod train;

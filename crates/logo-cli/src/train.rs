@@ -4,18 +4,11 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use burn::tensor::backend::AutodiffBackend;
 use clap::{Args, ValueEnum};
 use logo_algo::{TrainConfig, Trainer};
-use logo_nn::burn;
-use logo_nn::{Cpu32Autodiff, CpuAutodiff};
+use logo_nn::Engine;
 
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum Dtype {
-    /// float64 (the reference implementation's precision)
-    F64,
-    F32,
-}
+use crate::engine::{EngineArgs, WithEngine};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum StopMetric {
@@ -30,7 +23,7 @@ pub struct TrainArgs {
     config: Option<PathBuf>,
     /// Continue the run in this folder from its checkpoint (a killed run ends with the
     /// same final checkpoint as an uninterrupted one). Takes the run's own config;
-    /// --iterations may extend it. Pass the run's --dtype if it was not f64.
+    /// --iterations may extend it. Any engine can continue any run.
     #[arg(long, conflicts_with_all = ["config", "seed", "out", "threads"])]
     resume: Option<PathBuf>,
     /// Overrides the config's seed.
@@ -56,8 +49,8 @@ pub struct TrainArgs {
     /// Overrides the config's worker threads.
     #[arg(long)]
     threads: Option<usize>,
-    #[arg(long, value_enum, default_value_t = Dtype::F64)]
-    dtype: Dtype,
+    #[command(flatten)]
+    engine: EngineArgs,
 }
 
 /// How a run starts.
@@ -76,13 +69,10 @@ pub fn run(args: &TrainArgs) -> Result<()> {
             "--stop-at-return must be a finite number"
         );
     }
+    let stop = args.stop_at_return.map(|r| (r, args.stop_metric));
     if let Some(dir) = &args.resume {
         let start = Start::Resume(dir.clone(), args.iterations);
-        let stop = args.stop_at_return.map(|r| (r, args.stop_metric));
-        return match args.dtype {
-            Dtype::F64 => train::<CpuAutodiff>(start, stop),
-            Dtype::F32 => train::<Cpu32Autodiff>(start, stop),
-        };
+        return args.engine.with(Train { start, stop });
     }
     let config_path = args.config.as_ref().expect("clap: --config or --resume");
     let mut config = TrainConfig::load(config_path)?;
@@ -103,21 +93,32 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("runs/{name}-seed{}", config.seed)));
-    let stop = args.stop_at_return.map(|r| (r, args.stop_metric));
-    match args.dtype {
-        Dtype::F64 => train::<CpuAutodiff>(Start::New(Box::new(config), out), stop),
-        Dtype::F32 => train::<Cpu32Autodiff>(Start::New(Box::new(config), out), stop),
+    let start = Start::New(Box::new(config), out);
+    args.engine.with(Train { start, stop })
+}
+
+/// `logo train` on the chosen engine.
+struct Train {
+    start: Start,
+    stop: Option<(f64, StopMetric)>,
+}
+
+impl WithEngine for Train {
+    type Output = ();
+    fn run<E: Engine>(self, engine: E) -> Result<()> {
+        train(engine, self.start, self.stop)
     }
 }
 
-fn train<B: AutodiffBackend>(start: Start, stop: Option<(f64, StopMetric)>) -> Result<()> {
+fn train<E: Engine>(engine: E, start: Start, stop: Option<(f64, StopMetric)>) -> Result<()> {
     let (mut trainer, out) = match start {
         Start::New(config, out) => {
-            let trainer = Trainer::<B>::new(*config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let trainer =
+                Trainer::new(engine, *config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
             (trainer, out)
         }
         Start::Resume(dir, iterations) => {
-            let trainer = Trainer::<B>::resume(&dir, iterations)
+            let trainer = Trainer::resume(engine, &dir, iterations)
                 .map_err(|e| anyhow::anyhow!("{e}"))
                 .with_context(|| format!("--resume {}", dir.display()))?;
             println!(
@@ -129,13 +130,9 @@ fn train<B: AutodiffBackend>(start: Start, stop: Option<(f64, StopMetric)>) -> R
         }
     };
     let config = trainer.config.clone();
-    let algorithm = if config.guidance.is_some() {
-        "LOGO"
-    } else {
-        "TRPO"
-    };
     println!(
-        "{algorithm} on {} (eval: {}), {} iterations x {} samples, seed {}, {} envs on {} threads -> {}",
+        "{} on {} (eval: {}), {} iterations x {} samples, seed {}, {} envs on {} threads, {} -> {}",
+        config.algorithm(),
         config.env,
         config.eval_env_id(),
         config.iterations,
@@ -143,6 +140,7 @@ fn train<B: AutodiffBackend>(start: Start, stop: Option<(f64, StopMetric)>) -> R
         config.seed,
         config.num_envs,
         config.threads,
+        trainer.engine().describe(),
         out.display()
     );
     let total = trainer.config.iterations;

@@ -53,9 +53,10 @@ iterations = 2
 samples_per_iter = 300
 num_envs = 4
 policy_hidden = [16, 16]
-critic_hidden = [16, 16]
-critic_iters = 3
 eval_steps = 100
+[critic]
+hidden = [16, 16]
+fit = { method = "lbfgs", iterations = 3 }
 [guidance]
 demos = "demos.npy"
 delta0 = 0.2
@@ -101,9 +102,28 @@ fn config_errors_name_the_file_and_the_key() {
         (
             TINY.replace(
                 "[guidance]",
-                "[policy_step]\nfisher_fraction = 1.5\n[guidance]",
+                "[improvement]\nfisher_fraction = 1.5\n[guidance]",
             ),
-            "policy_step.fisher_fraction",
+            "improvement.fisher_fraction",
+        ),
+        // A field of another policy-update kind, and one of another critic fit.
+        (
+            TINY.replace(
+                "[guidance]",
+                "[improvement]\nkind = \"ppo-clip\"\ndamping = 0.1\n[guidance]",
+            ),
+            "damping",
+        ),
+        (
+            TINY.replace("iterations = 3 }", "iterations = 3, epochs = 2 }"),
+            "epochs",
+        ),
+        (
+            TINY.replace(
+                "warmup = 0",
+                "warmup = 0\n[guidance.update]\nkind = \"ppo-clip\"\nepochs = 0",
+            ),
+            "guidance.update.epochs",
         ),
     ];
     for (i, (text, key)) in cases.iter().enumerate() {

@@ -1,4 +1,5 @@
-//! State-value critics: one MLP, or two for clipped double-Q (baseline min(V1, V2)).
+//! The state-value network V(s): its definition. How many of them a reward stream uses
+//! (one, or two for clipped double-Q) is the critic kind of `logo_algo::critic`.
 
 use burn::module::Module;
 use burn::tensor::{Tensor, backend::Backend};
@@ -35,13 +36,6 @@ impl ValueNetConfig {
             net: self.net().init(device),
         }
     }
-
-    pub fn init_twin<B: Backend>(&self, device: &B::Device) -> TwinCritic<B> {
-        TwinCritic {
-            v1: self.init(device),
-            v2: self.init(device),
-        }
-    }
 }
 
 /// V(s).
@@ -54,19 +48,5 @@ impl<B: Backend> ValueNet<B> {
     /// One value per row of `obs`.
     pub fn forward(&self, obs: Tensor<B, 2>) -> Tensor<B, 1> {
         self.net.forward(obs).squeeze_dim::<1>(1)
-    }
-}
-
-/// Two independently initialised value nets fitted to the same returns; the baseline is
-/// their minimum (the seed paper's "CDQ").
-#[derive(Module, Debug)]
-pub struct TwinCritic<B: Backend> {
-    pub v1: ValueNet<B>,
-    pub v2: ValueNet<B>,
-}
-
-impl<B: Backend> TwinCritic<B> {
-    pub fn baseline(&self, obs: Tensor<B, 2>) -> Tensor<B, 1> {
-        self.v1.forward(obs.clone()).min_pair(self.v2.forward(obs))
     }
 }

@@ -55,22 +55,4 @@ impl<B: Backend> Discriminator<B> {
             .forward(Tensor::cat(vec![seen, actions], 1))
             .squeeze_dim::<1>(1)
     }
-
-    /// D(s, a) in (0, 1).
-    pub fn forward(&self, obs: Tensor<B, 2>, actions: Tensor<B, 2>) -> Tensor<B, 1> {
-        softplus(self.logits(obs, actions).neg()).neg().exp()
-    }
-
-    /// The guidance reward −log D(s, a) = softplus(−logit).
-    pub fn guidance_reward(&self, obs: Tensor<B, 2>, actions: Tensor<B, 2>) -> Tensor<B, 1> {
-        softplus(self.logits(obs, actions).neg())
-    }
-}
-
-/// log(1 + eˣ), stable for large |x|: max(x, 0) + log1p(e^{−|x|}).
-///
-/// Written here rather than taken from burn: burn 0.21's `sigmoid` computes in f32
-/// whatever the backend's precision, and its `softplus` overflows for large x.
-pub fn softplus<B: Backend, const D: usize>(x: Tensor<B, D>) -> Tensor<B, D> {
-    x.clone().clamp_min(0.0) + x.abs().neg().exp().log1p()
 }

@@ -22,7 +22,21 @@ pub fn from_f64<B: Backend, const D: usize>(
     shape: [usize; D],
     device: &B::Device,
 ) -> Tensor<B, D> {
-    Tensor::from_data(TensorData::new(values.to_vec(), shape), device)
+    from_vec_f64(values.to_vec(), shape, device)
+}
+
+/// As [`from_f64`], taking the values without copying them first.
+pub fn from_vec_f64<B: Backend, const D: usize>(
+    values: Vec<f64>,
+    shape: [usize; D],
+    device: &B::Device,
+) -> Tensor<B, D> {
+    Tensor::from_data(TensorData::new(values, shape), device)
+}
+
+/// Σ aᵢ bᵢ of two flat vectors, in order.
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 struct Collect(Vec<f64>);

@@ -1,17 +1,23 @@
 //! Networks and losses of LOGO and its variants, written once in burn and generic over
-//! the backend; the natural-gradient pieces (flat parameters, KL, F·v, conjugate gradient);
-//! checkpoints; import of the LOGO reference's PyTorch BC policies.
+//! the backend, and the engines they run on:
 //!
-//! The default backend is ndarray in float64, the reference implementation's precision
-//! ([`Cpu`], [`CpuAutodiff`]); float32 is [`Cpu32`], [`Cpu32Autodiff`].
+//! - networks ([`mlp`], [`policy`], [`critic`], [`discriminator`]): burn modules, with the
+//!   reference's initialisation; checkpoints ([`checkpoint`]) and the reference's BC
+//!   policies ([`torch_import`]) read and write them;
+//! - [`loss`]: every loss, over network outputs, with burn's autodiff for its gradient;
+//! - [`engine`]: the seam: what algorithms need from a network (trace, Jᵀ·u, the
+//!   Gauss–Newton product, flat parameters), implemented by the hand-tuned CPU
+//!   [`kernels`] and by burn on any backend;
+//! - [`fisher`]: the policy's Fisher-vector product over an engine, conjugate gradient.
 
 pub mod checkpoint;
 pub mod critic;
 pub mod discriminator;
+pub mod engine;
 pub mod fisher;
 pub mod flat;
-pub mod gemm;
-pub mod host;
+pub mod kernels;
+pub mod loss;
 pub mod mlp;
 pub mod policy;
 pub mod torch_import;
@@ -19,15 +25,15 @@ pub mod torch_import;
 pub use burn;
 
 pub use checkpoint::{Checkpoint, CheckpointError, CheckpointMeta};
-pub use critic::{TwinCritic, ValueNet, ValueNetConfig};
+pub use critic::{ValueNet, ValueNetConfig};
 pub use discriminator::{Discriminator, DiscriminatorConfig};
-pub use fisher::{FisherVectorProduct, conjugate_gradient, mean_kl};
-pub use host::{HostMlp, HostTrace, OutputSensitivities};
+pub use engine::{BurnEngine, Engine, Kernels};
+pub use fisher::{FisherKind, FisherOperator, conjugate_gradient};
 pub use mlp::{Mlp, MlpConfig};
-pub use policy::{ActingPolicy, GaussianPolicy, PolicyConfig};
+pub use policy::{ActingPolicy, GaussianPolicy, Policy, PolicyConfig};
 pub use torch_import::{ImportError, load_reference_policy};
 
-/// ndarray, float64: the default (the reference implementation computes in float64).
+/// ndarray, float64: the reference implementation's precision.
 pub type Cpu = burn::backend::NdArray<f64>;
 pub type CpuAutodiff = burn::backend::Autodiff<Cpu>;
 /// ndarray, float32.

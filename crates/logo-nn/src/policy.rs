@@ -1,5 +1,10 @@
 //! The Gaussian MLP policy: a tanh MLP for the action mean and a state-independent,
 //! learned log standard deviation.
+//!
+//! - [`GaussianPolicy`]: its definition as a burn module (initialisation, checkpoints,
+//!   the reference's BC import);
+//! - [`Policy`]: the same policy as training holds it, on an [`Engine`];
+//! - [`ActingPolicy`]: a frozen host copy that rollouts, evaluation and recording act with.
 
 use burn::module::{Module, Param};
 use burn::tensor::{Tensor, backend::Backend};
@@ -7,12 +12,11 @@ use rand::Rng;
 use rand_distr::StandardNormal;
 use serde::{Deserialize, Serialize};
 
-use crate::flat::{from_f64, to_f64};
-use crate::host::{HostMlp, is_host_backend};
+use crate::engine::{Engine, tensor};
+use crate::flat::{params_to_vec, to_f64, vec_to_params};
+use crate::kernels::HostMlp;
+use crate::loss::{gaussian_entropy, gaussian_log_prob};
 use crate::mlp::{Mlp, MlpConfig};
-
-/// ln(2π), of the Gaussian log-density.
-pub const LOG_2PI: f64 = 1.837_877_066_409_345_5;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PolicyConfig {
@@ -58,22 +62,6 @@ pub struct GaussianPolicy<B: Backend> {
     pub log_std: Param<Tensor<B, 1>>,
 }
 
-/// log N(a; μ, σ²) summed over action dimensions: one value per row.
-pub fn gaussian_log_prob<B: Backend>(
-    mean: Tensor<B, 2>,
-    log_std: Tensor<B, 1>,
-    actions: Tensor<B, 2>,
-) -> Tensor<B, 1> {
-    let act_dim = log_std.dims()[0] as f64;
-    let log_std = log_std.unsqueeze_dim::<2>(0);
-    let z = (actions - mean) / log_std.clone().exp();
-    let per_row = (z.clone() * z).mul_scalar(-0.5) - log_std;
-    per_row
-        .sum_dim(1)
-        .squeeze_dim::<1>(1)
-        .sub_scalar(0.5 * LOG_2PI * act_dim)
-}
-
 impl<B: Backend> GaussianPolicy<B> {
     pub fn obs_dim(&self) -> usize {
         self.mean.layers[0].weight.dims()[0]
@@ -93,56 +81,142 @@ impl<B: Backend> GaussianPolicy<B> {
         gaussian_log_prob(self.mean.forward(obs), self.log_std.val(), actions)
     }
 
-    /// Entropy of π(·|s) (the same for every state): Σ log σ + ½ d (1 + ln 2π).
+    /// Entropy of π(·|s) (the same for every state).
     pub fn entropy(&self) -> Tensor<B, 1> {
-        let d = self.act_dim() as f64;
-        self.log_std
-            .val()
-            .sum()
-            .add_scalar(0.5 * d * (1.0 + LOG_2PI))
+        gaussian_entropy(self.log_std.val())
     }
 
-    /// A frozen copy for acting (rollouts, evaluation, recording): observations in, actions
-    /// out, as host vectors. On the default CPU backend the mean net runs on host buffers
-    /// (`crate::host`): a batch-1 forward through burn-ndarray costs tens of µs in
-    /// allocations, more than the physics step it drives.
-    pub fn acting(&self) -> ActingPolicy<B> {
-        let mean = if is_host_backend::<B>() {
-            MeanNet::Host(HostMlp::from_mlp(&self.mean))
-        } else {
-            MeanNet::Burn(self.mean.clone())
-        };
-        ActingPolicy {
-            mean,
-            std: to_f64(self.log_std.val().exp()),
-            obs_dim: self.obs_dim(),
+    /// A frozen host copy for acting.
+    pub fn acting(&self) -> ActingPolicy {
+        ActingPolicy::new(
+            HostMlp::new(self.mean.dims(), params_to_vec(&self.mean)),
+            to_f64(self.log_std.val()),
+        )
+    }
+}
+
+/// The policy being trained, on an engine: the mean network in the engine's form and
+/// log σ as host values (a handful of numbers). Its flat parameters are the mean net's
+/// then log σ, as [`params_to_vec`] lays out a [`GaussianPolicy`].
+pub struct Policy<E: Engine> {
+    /// The mean network's layer sizes.
+    pub dims: Vec<usize>,
+    pub mean: E::Net,
+    pub log_std: Vec<f64>,
+}
+
+impl<E: Engine> Clone for Policy<E> {
+    fn clone(&self) -> Self {
+        Self {
+            dims: self.dims.clone(),
+            mean: self.mean.clone(),
+            log_std: self.log_std.clone(),
         }
     }
 }
 
-enum MeanNet<B: Backend> {
-    Host(HostMlp),
-    Burn(Mlp<B>),
+impl<E: Engine> Policy<E> {
+    /// The module's parameters on `engine`.
+    pub fn from_module<B: Backend>(engine: &E, module: &GaussianPolicy<B>) -> Self {
+        let dims = module.mean.dims();
+        Self {
+            mean: engine.net(&dims, &params_to_vec(&module.mean)),
+            dims,
+            log_std: to_f64(module.log_std.val()),
+        }
+    }
+
+    /// `template` with this policy's parameters (for checkpoints).
+    pub fn to_module<B: Backend>(
+        &self,
+        engine: &E,
+        template: GaussianPolicy<B>,
+    ) -> GaussianPolicy<B> {
+        vec_to_params(template, &self.params(engine))
+    }
+
+    pub fn num_params(&self) -> usize {
+        crate::mlp::num_params(&self.dims) + self.log_std.len()
+    }
+
+    pub fn act_dim(&self) -> usize {
+        self.log_std.len()
+    }
+
+    /// The mean net's parameters, then log σ.
+    pub fn params(&self, engine: &E) -> Vec<f64> {
+        let mut theta = engine.params(&self.mean);
+        theta.extend(&self.log_std);
+        theta
+    }
+
+    /// The same policy with parameters `theta` (laid out as [`Self::params`]).
+    pub fn with_params(&self, engine: &E, theta: &[f64]) -> Self {
+        assert_eq!(
+            theta.len(),
+            self.num_params(),
+            "policy parameters of the wrong length"
+        );
+        let (mean, log_std) = theta.split_at(theta.len() - self.log_std.len());
+        Self {
+            dims: self.dims.clone(),
+            mean: engine.net(&self.dims, mean),
+            log_std: log_std.to_vec(),
+        }
+    }
+
+    pub fn log_std_tensor(&self, engine: &E) -> Tensor<E::B, 1> {
+        tensor(engine, &self.log_std, [self.log_std.len()])
+    }
+
+    /// μ(s) for every row of `obs`.
+    pub fn means(&self, engine: &E, obs: &E::Rows) -> Tensor<E::B, 2> {
+        engine.forward(&self.mean, obs)
+    }
+
+    /// log π(a|s) for every row.
+    pub fn log_prob(
+        &self,
+        engine: &E,
+        obs: &E::Rows,
+        actions: &Tensor<E::B, 2>,
+    ) -> Tensor<E::B, 1> {
+        gaussian_log_prob(
+            self.means(engine, obs),
+            self.log_std_tensor(engine),
+            actions.clone(),
+        )
+    }
+
+    /// A frozen host copy for acting, refreshed by the trainer once per iteration.
+    pub fn acting(&self, engine: &E) -> ActingPolicy {
+        ActingPolicy::new(
+            HostMlp::new(self.dims.clone(), engine.params(&self.mean)),
+            self.log_std.clone(),
+        )
+    }
 }
 
-/// See [`GaussianPolicy::acting`].
-pub struct ActingPolicy<B: Backend> {
-    mean: MeanNet<B>,
+/// A frozen policy on the host, for acting: observations in, actions out. The mean net
+/// runs on the kernels' host MLP whatever engine trained it (a batch-1 forward through a
+/// tensor library costs more than the physics step it drives).
+pub struct ActingPolicy {
+    mean: HostMlp,
     std: Vec<f64>,
-    obs_dim: usize,
 }
 
-impl<B: Backend> ActingPolicy<B> {
+impl ActingPolicy {
+    pub fn new(mean: HostMlp, log_std: Vec<f64>) -> Self {
+        assert_eq!(mean.output_dim(), log_std.len(), "one log σ per action");
+        Self {
+            mean,
+            std: log_std.iter().map(|l| l.exp()).collect(),
+        }
+    }
+
     /// μ(s) for every row of `obs` (`rows * obs_dim` values, row-major).
     pub fn mean(&self, obs: &[f64]) -> Vec<f64> {
-        match &self.mean {
-            MeanNet::Host(net) => net.forward(obs),
-            MeanNet::Burn(net) => {
-                let rows = obs.len() / self.obs_dim;
-                let device = net.layers[0].weight.device();
-                to_f64(net.forward(from_f64(obs, [rows, self.obs_dim], &device)))
-            }
-        }
+        self.mean.forward(obs)
     }
 
     /// a ~ π(·|s) for every row of `obs`, with the caller's generator (so a seed fixes the

@@ -1,17 +1,61 @@
-//! The natural-gradient pieces against independent computations.
+//! The natural-gradient pieces against independent computations, on both engines.
 
 use burn::backend::ndarray::NdArrayDevice;
 use burn::module::AutodiffModule;
 use burn::tensor::Tensor;
 use logo_nn::flat::{from_f64, grads_to_vec, params_to_vec, to_f64, vec_to_params};
+use logo_nn::loss::gaussian_kl;
 use logo_nn::{
-    CpuAutodiff, FisherVectorProduct, GaussianPolicy, PolicyConfig, conjugate_gradient, mean_kl,
+    BurnEngine, Cpu, CpuAutodiff, Engine, FisherKind, FisherOperator, GaussianPolicy, Kernels,
+    Policy, PolicyConfig, conjugate_gradient,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 type B = CpuAutodiff;
-type Inner = <B as burn::tensor::backend::AutodiffBackend>::InnerBackend;
+
+fn mean_kl<B: burn::tensor::backend::Backend>(
+    old_mean: Tensor<B, 2>,
+    old_log_std: Tensor<B, 1>,
+    new_mean: Tensor<B, 2>,
+    new_log_std: Tensor<B, 1>,
+) -> Tensor<B, 1> {
+    gaussian_kl(old_mean, old_log_std, new_mean, new_log_std).mean()
+}
+
+/// F·v of `policy` on `obs` through `engine`'s FisherOperator.
+fn fisher_product<E: Engine>(
+    engine: &E,
+    policy: &GaussianPolicy<B>,
+    obs: &Tensor<B, 2>,
+    damping: f64,
+    kind: FisherKind,
+    v: &[f64],
+) -> Vec<f64> {
+    let on_engine = Policy::from_module(engine, &policy.valid());
+    let obs = to_f64(obs.clone());
+    let rows = engine.rows(&obs, policy.obs_dim());
+    let trace = engine.trace(&on_engine.mean, &rows);
+    let n = engine.num_rows(&rows);
+    FisherOperator::new(engine, &on_engine, &trace, n, damping, kind).apply(v)
+}
+
+/// v ↦ F·v.
+type Product<'a> = Box<dyn Fn(&[f64]) -> Vec<f64> + 'a>;
+
+/// F·v on the kernels and on burn (ndarray f64): the same operator, two engines.
+fn both_engines<'a>(
+    policy: &'a GaussianPolicy<B>,
+    obs: &'a Tensor<B, 2>,
+    damping: f64,
+    kind: FisherKind,
+) -> [Product<'a>; 2] {
+    let burn = BurnEngine::<Cpu>::new(Default::default(), "ndarray f64");
+    [
+        Box::new(move |v| fisher_product(&Kernels, policy, obs, damping, kind, v)),
+        Box::new(move |v| fisher_product(&burn, policy, obs, damping, kind, v)),
+    ]
+}
 
 fn tiny_policy(device: &NdArrayDevice) -> (GaussianPolicy<B>, Tensor<B, 2>) {
     let config = PolicyConfig {
@@ -47,7 +91,12 @@ use burn::module::Module;
 
 /// F assembled column by column from autodiff Jacobians: F = Σ_ij ∇μ_ij ∇μ_ijᵀ / (σ_j² N)
 /// on the mean parameters, 2·I on the log-stds, plus damping.
-fn explicit_fisher(policy: &GaussianPolicy<B>, obs: &Tensor<B, 2>, damping: f64) -> Vec<Vec<f64>> {
+fn explicit_fisher(
+    policy: &GaussianPolicy<B>,
+    obs: &Tensor<B, 2>,
+    damping: f64,
+    kind: FisherKind,
+) -> Vec<Vec<f64>> {
     let p = policy.num_params();
     let (n, act_dim) = (obs.dims()[0], policy.act_dim());
     let std = to_f64(policy.log_std.val().exp());
@@ -66,7 +115,9 @@ fn explicit_fisher(policy: &GaussianPolicy<B>, obs: &Tensor<B, 2>, damping: f64)
         }
     }
     for (k, row) in f.iter_mut().enumerate() {
-        if k >= p - act_dim {
+        // The exact Fisher has 2·I on the log-stds; the reference's code adds 2·I to every
+        // parameter (LOGO-FACTS): Jᵀ M J / N + 2.01·I with its damping.
+        if k >= p - act_dim || kind == FisherKind::Reference {
             row[k] += 2.0;
         }
         row[k] += damping;
@@ -75,31 +126,63 @@ fn explicit_fisher(policy: &GaussianPolicy<B>, obs: &Tensor<B, 2>, damping: f64)
 }
 
 #[test]
-fn fisher_vector_product_matches_the_explicit_fisher_matrix() {
+fn fisher_vector_product_matches_the_explicit_fisher_matrix_on_both_engines() {
     let device = Default::default();
     let (policy, obs) = tiny_policy(&device);
     let damping = 0.01;
-    let f = explicit_fisher(&policy, &obs, damping);
-    let fvp = FisherVectorProduct::<Inner>::new(&policy.valid(), obs.inner(), damping);
+    for kind in [FisherKind::Exact, FisherKind::Reference] {
+        let f = explicit_fisher(&policy, &obs, damping, kind);
+        let p = policy.num_params();
+        for (engine, fvp) in ["kernels", "burn"]
+            .iter()
+            .zip(both_engines(&policy, &obs, damping, kind))
+        {
+            // Every column, then random directions.
+            let mut worst = 0.0f64;
+            for k in 0..p {
+                let mut e = vec![0.0; p];
+                e[k] = 1.0;
+                let column: Vec<f64> = (0..p).map(|a| f[a][k]).collect();
+                worst = worst.max(relative_error(&fvp(&e), &column));
+            }
+            let mut rng = ChaCha8Rng::seed_from_u64(2);
+            for _ in 0..5 {
+                let v: Vec<f64> = (0..p).map(|_| rng.random_range(-1.0..1.0)).collect();
+                let want: Vec<f64> = (0..p)
+                    .map(|a| (0..p).map(|b| f[a][b] * v[b]).sum())
+                    .collect();
+                worst = worst.max(relative_error(&fvp(&v), &want));
+            }
+            assert!(
+                worst <= 1e-8,
+                "{engine}, {kind:?}: relative error {worst:e}"
+            );
+        }
+    }
+}
+
+/// The reference operator is the exact one plus 2·v on the mean parameters: a test that
+/// fails on the exact operator (and on one that adds 2·v to the log-stds twice).
+#[test]
+fn the_reference_fisher_adds_two_v_to_every_parameter() {
+    let device = Default::default();
+    let (policy, obs) = tiny_policy(&device);
     let p = policy.num_params();
-    assert_eq!(fvp.dim(), p);
-    // Every column, then random directions.
-    let mut worst = 0.0f64;
+    let act_dim = policy.act_dim();
+    let v: Vec<f64> = (0..p).map(|k| (k as f64 * 0.61).sin()).collect();
+    let [exact, _] = both_engines(&policy, &obs, 0.01, FisherKind::Exact);
+    let [reference, _] = both_engines(&policy, &obs, 0.01, FisherKind::Reference);
+    let (fe, fr) = (exact(&v), reference(&v));
     for k in 0..p {
-        let mut e = vec![0.0; p];
-        e[k] = 1.0;
-        let column: Vec<f64> = (0..p).map(|a| f[a][k]).collect();
-        worst = worst.max(relative_error(&fvp.apply(&e), &column));
+        let extra = if k < p - act_dim { 2.0 * v[k] } else { 0.0 };
+        assert!(
+            (fr[k] - fe[k] - extra).abs() <= 1e-12 * fr[k].abs().max(1.0),
+            "parameter {k}: reference {} exact {} v {}",
+            fr[k],
+            fe[k],
+            v[k]
+        );
     }
-    let mut rng = ChaCha8Rng::seed_from_u64(2);
-    for _ in 0..5 {
-        let v: Vec<f64> = (0..p).map(|_| rng.random_range(-1.0..1.0)).collect();
-        let want: Vec<f64> = (0..p)
-            .map(|a| (0..p).map(|b| f[a][b] * v[b]).sum())
-            .collect();
-        worst = worst.max(relative_error(&fvp.apply(&v), &want));
-    }
-    assert!(worst <= 1e-8, "relative error {worst:e}");
 }
 
 #[test]
@@ -120,7 +203,7 @@ fn fisher_vector_product_is_the_hessian_of_the_mean_kl() {
         );
         grads_to_vec(&p, &kl.backward())
     };
-    let fvp = FisherVectorProduct::<Inner>::new(&policy.valid(), obs.clone().inner(), 0.0);
+    let [fvp, _] = both_engines(&policy, &obs, 0.0, FisherKind::Exact);
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let eps = 1e-5;
     for _ in 0..3 {
@@ -134,7 +217,7 @@ fn fisher_vector_product_is_the_hessian_of_the_mean_kl() {
             .zip(kl_grad(&minus))
             .map(|(a, b)| (a - b) / (2.0 * eps))
             .collect();
-        let err = relative_error(&fvp.apply(&v), &hv);
+        let err = relative_error(&fvp(&v), &hv);
         assert!(
             err <= 1e-7,
             "F·v vs finite-difference Hessian of KL: relative error {err:e}"

@@ -2,7 +2,7 @@
 //! against matrixmultiply, over the shapes that exercise its edges: partial micro-tiles
 //! in m and n, k crossing the packing chunk, transposed operands, accumulate or not.
 
-use logo_nn::gemm::{Finish, Start, gemm, gemm_portable, gemm_to_vec};
+use logo_nn::kernels::gemm::{Finish, Start, gemm, gemm_portable, gemm_to_vec};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

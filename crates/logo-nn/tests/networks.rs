@@ -1,7 +1,8 @@
-//! Critic and discriminator behaviour.
+//! The discriminator and the losses on its logits.
 
 use logo_nn::flat::{from_f64, to_f64};
-use logo_nn::{Cpu, DiscriminatorConfig, ValueNetConfig};
+use logo_nn::loss::{binary_cross_entropy, guidance_reward, softplus};
+use logo_nn::{Cpu, DiscriminatorConfig};
 
 #[test]
 fn the_censored_discriminator_ignores_the_hidden_observation_dims() {
@@ -10,12 +11,12 @@ fn the_censored_discriminator_ignores_the_hidden_observation_dims() {
     let obs_a = from_f64::<Cpu, 2>(&[0.1, 0.2, 5.0, -3.0, 0.3, 0.4, -7.0, 2.0], [2, 4], &device);
     let obs_b = from_f64::<Cpu, 2>(&[0.1, 0.2, -1.0, 9.0, 0.3, 0.4, 0.0, 0.0], [2, 4], &device);
     let act = from_f64::<Cpu, 2>(&[0.5, -0.5], [2, 1], &device);
-    let da = to_f64(disc.forward(obs_a.clone(), act.clone()));
-    assert_eq!(da, to_f64(disc.forward(obs_b, act.clone())));
-    assert!(da.iter().all(|d| *d > 0.0 && *d < 1.0));
-    // −log D, computed without forming D, agrees with it.
-    let reward = to_f64(disc.guidance_reward(obs_a.clone(), act.clone()));
-    for (r, d) in reward.iter().zip(&da) {
+    let la = disc.logits(obs_a.clone(), act.clone());
+    assert_eq!(to_f64(la.clone()), to_f64(disc.logits(obs_b, act.clone())));
+    // −log D, computed without forming D = σ(logit), agrees with it.
+    let reward = to_f64(guidance_reward(la.clone()));
+    for (r, l) in reward.iter().zip(to_f64(la.clone())) {
+        let d = 1.0 / (1.0 + (-l).exp());
         assert!((r + d.ln()).abs() < 1e-14, "{r} {d}");
     }
     // But the dims it sees do matter.
@@ -24,32 +25,36 @@ fn the_censored_discriminator_ignores_the_hidden_observation_dims() {
         [2, 4],
         &device,
     );
-    assert_ne!(da, to_f64(disc.forward(obs_c, act)));
+    assert_ne!(to_f64(la), to_f64(disc.logits(obs_c, act)));
 }
 
 #[test]
-fn the_twin_critic_baseline_is_the_elementwise_minimum() {
+fn binary_cross_entropy_is_minus_log_sigmoid_of_the_label() {
     let device = Default::default();
-    let twin = ValueNetConfig::new(3).init_twin::<Cpu>(&device);
-    let obs = from_f64::<Cpu, 2>(
-        &[0.5, -1.0, 2.0, -0.3, 0.8, 0.1, 1.5, 1.5, -2.0],
-        [3, 3],
-        &device,
+    let logits = [-3.0, -0.2, 0.0, 1.5, 40.0];
+    let t = from_f64::<Cpu, 1>(&logits, [5], &device);
+    let sigmoid = |l: f64| 1.0 / (1.0 + (-l).exp());
+    let one: f64 = logits.iter().map(|&l| -sigmoid(l).ln()).sum::<f64>() / 5.0;
+    // 1 − σ(l) = e^{−l} / (1 + e^{−l}), which does not round to 0 at l = 40.
+    let zero: f64 = logits
+        .iter()
+        .map(|&l| -((-l).exp() / (1.0 + (-l).exp())).ln())
+        .sum::<f64>()
+        / 5.0;
+    let got_one = to_f64(binary_cross_entropy(t.clone(), true))[0];
+    let got_zero = to_f64(binary_cross_entropy(t, false))[0];
+    assert!((got_one - one).abs() < 1e-12, "{got_one} vs {one}");
+    assert!(
+        (got_zero - zero).abs() < 1e-12 * zero,
+        "{got_zero} vs {zero}"
     );
-    let v1 = to_f64(twin.v1.forward(obs.clone()));
-    let v2 = to_f64(twin.v2.forward(obs.clone()));
-    assert_ne!(v1, v2, "two independently initialised nets");
-    let base = to_f64(twin.baseline(obs));
-    for i in 0..3 {
-        assert_eq!(base[i], v1[i].min(v2[i]));
-    }
 }
 
 #[test]
 fn softplus_is_stable_and_float64_exact() {
     let device = Default::default();
     let x = from_f64::<Cpu, 1>(&[-800.0, -30.0, -1e-3, 0.0, 0.7, 30.0, 800.0], [7], &device);
-    let y = to_f64(logo_nn::discriminator::softplus(x));
+    let y = to_f64(softplus(x));
     let want = [
         0.0,
         (-30f64).exp().ln_1p(),

@@ -1,6 +1,6 @@
 //! The fast f64 tanh against libm's.
 
-use logo_nn::mlp::tanh_f64_in_place;
+use logo_nn::kernels::tanh::tanh_f64_in_place;
 
 #[test]
 fn fast_tanh_is_within_a_few_ulp_of_libm() {

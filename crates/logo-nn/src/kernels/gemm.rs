@@ -240,7 +240,7 @@ fn begin(c: &mut [f64], start: Start) {
 fn end_at(c: &mut [f64], finish: Finish, offset: usize) {
     match finish {
         Finish::None => {}
-        Finish::Tanh => crate::mlp::tanh_f64_in_place(c),
+        Finish::Tanh => super::tanh::tanh_f64_in_place(c),
         Finish::TanhDerivative(h) => c
             .iter_mut()
             .zip(&h[offset..])
@@ -676,7 +676,7 @@ mod avx512 {
                 }
             }
             if let Finish::Tanh = finish {
-                crate::mlp::tanh_f64_in_place(row);
+                crate::kernels::tanh::tanh_f64_in_place(row);
             }
         }
     }

@@ -1,37 +1,28 @@
-//! The MLP of [`crate::Mlp`] on plain host `f64` buffers, for the CPU hot loops: the
-//! critics' L-BFGS fits, the surrogate gradient and the Fisher-vector products, which
+//! An MLP (the burn definition of `crate::mlp`) on plain host `f64` buffers: the kernels
+//! engine's forward pass, reverse product Jᵀ·u and Gauss–Newton product, for the CPU hot
+//! loops (the critics' L-BFGS fits, the policy gradient, the Fisher-vector products), which
 //! evaluate the same network on the same batch 10–60 times per step.
 //!
-//! Why a second copy of the forward/reverse passes: burn-ndarray allocates and copies
-//! around every op and its dgemm calls are single-threaded; here the parameters and the
-//! cached activations stay on the host between calls, bias and tanh are fused in place,
-//! and the batch is cut into fixed blocks that run on rayon's threads. The burn version in
-//! `mlp.rs` stays the definition (and the path for every other backend); the tests in
-//! `tests/host.rs` hold this one to it within 1e-12.
+//! Parameters and cached activations stay on the host between calls, bias and tanh are
+//! fused into the products, and the batch is cut into fixed blocks that run on rayon's
+//! threads. The tests in `tests/kernels.rs` hold every product to the burn definition.
 //!
 //! Determinism: the blocks are a fixed partition of the rows (not of the threads), and
 //! per-block parameter gradients are summed in block order, so results are bit-identical
 //! whatever the number of threads.
 
-use burn::tensor::backend::Backend;
 use rayon::prelude::*;
 
-use crate::flat::params_to_vec;
-use crate::gemm::{Finish, Start, gemm, gemm_to_vec};
-use crate::mlp::Mlp;
-
-/// Whether `B` is the default CPU backend (`NdArray<f64>`), whose hot loops run here.
-pub fn is_host_backend<B: Backend>() -> bool {
-    std::any::TypeId::of::<B>() == std::any::TypeId::of::<crate::Cpu>()
-}
+use super::gemm::{Finish, Start, gemm, gemm_to_vec};
+use crate::mlp::num_params;
 
 /// Rows per block: small enough that a block's activations (256 × 128 × 8 B = 256 KiB
 /// each) stay in a core's 1 MiB L2 while the next layer reads them, and that a 5k-row
 /// batch splits evenly over two threads; large enough for the GEMM to run at full speed.
-const BLOCK_ROWS: usize = 256;
+pub const BLOCK_ROWS: usize = 256;
 
 /// An MLP's layer sizes and flat parameters, laid out as [`crate::flat::params_to_vec`]
-/// lays out an [`Mlp`]: for each layer, weight `[in, out]` row-major, then bias `[out]`.
+/// lays out a [`crate::Mlp`]: for each layer, weight `[in, out]` row-major, then bias `[out]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HostMlp {
     /// `[input, hidden..., output]`.
@@ -42,12 +33,17 @@ pub struct HostMlp {
 /// The activations of every block of a batch: `[x, h1, ..., output]` per block.
 pub struct HostTrace {
     rows: usize,
+    output_dim: usize,
     blocks: Vec<Vec<Vec<f64>>>,
 }
 
 impl HostTrace {
     pub fn rows(&self) -> usize {
         self.rows
+    }
+
+    pub fn output_dim(&self) -> usize {
+        self.output_dim
     }
 
     /// The network's output for every row, `[rows, out]` row-major.
@@ -59,10 +55,6 @@ impl HostTrace {
     }
 }
 
-fn num_params(dims: &[usize]) -> usize {
-    dims.windows(2).map(|w| w[0] * w[1] + w[1]).sum()
-}
-
 impl HostMlp {
     pub fn new(dims: Vec<usize>, params: Vec<f64>) -> Self {
         assert!(dims.len() >= 2, "an MLP has at least one layer");
@@ -72,13 +64,6 @@ impl HostMlp {
             "parameters of the wrong length"
         );
         Self { dims, params }
-    }
-
-    /// A host copy of `mlp`'s parameters.
-    pub fn from_mlp<B: Backend>(mlp: &Mlp<B>) -> Self {
-        let mut dims = vec![mlp.layers[0].weight.dims()[0]];
-        dims.extend(mlp.layers.iter().map(|l| l.weight.dims()[1]));
-        Self::new(dims, params_to_vec(mlp))
     }
 
     pub fn input_dim(&self) -> usize {
@@ -123,6 +108,7 @@ impl HostMlp {
         };
         HostTrace {
             rows: x.len() / input,
+            output_dim: self.output_dim(),
             blocks,
         }
     }

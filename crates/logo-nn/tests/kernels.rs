@@ -1,12 +1,14 @@
-//! The host-buffer MLP (`logo_nn::host`) against the burn definition in `mlp.rs`.
+//! The kernels' host-buffer MLP (`logo_nn::kernels`) against the burn definition in
+//! `mlp.rs`.
 
 use burn::backend::ndarray::NdArrayDevice;
-use logo_nn::flat::{flatten_layers, from_f64, split_layers, to_f64, vec_to_params};
-use logo_nn::{Cpu, HostMlp, Mlp, MlpConfig};
+use logo_nn::flat::{flatten_layers, from_f64, params_to_vec, split_layers, to_f64, vec_to_params};
+use logo_nn::kernels::HostMlp;
+use logo_nn::{Cpu, Mlp, MlpConfig};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// 2500 rows: two full blocks of 1024 and a partial one.
+/// 2500 rows: nine full blocks of 256 and a partial one.
 const ROWS: usize = 2500;
 
 fn random(rng: &mut ChaCha8Rng, n: usize, scale: f64) -> Vec<f64> {
@@ -24,7 +26,7 @@ fn setup() -> (Mlp<Cpu>, HostMlp, Vec<f64>, ChaCha8Rng) {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let theta = random(&mut rng, config.num_params(), 0.6);
     let mlp = vec_to_params(config.init::<Cpu>(&device), &theta);
-    let host = HostMlp::from_mlp(&mlp);
+    let host = HostMlp::new(mlp.dims(), params_to_vec(&mlp));
     assert_eq!(host.params, theta);
     assert_eq!(host.dims, vec![5, 16, 12, 3]);
     let x = random(&mut rng, ROWS * 5, 2.0);
@@ -124,7 +126,7 @@ fn the_gauss_newton_product_equals_burns_jvp_then_vjp() {
             config.init::<Cpu>(&device),
             &random(&mut rng, config.num_params(), 0.6),
         );
-        let host = HostMlp::from_mlp(&mlp);
+        let host = HostMlp::new(mlp.dims(), params_to_vec(&mlp));
         let x = random(&mut rng, ROWS * 5, 2.0);
         let tangent = random(&mut rng, host.num_params(), 1.0);
         let weights = random(&mut rng, output, 1.0);

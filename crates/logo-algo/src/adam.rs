@@ -1,0 +1,93 @@
+//! Adam on a flat parameter vector, and epochs of minibatch Adam: the first-order
+//! optimiser of the discriminator, of the PPO policy-update kinds and of the critics'
+//! `adam` fit. Written out rather than burn's optimizer so that its state is plain
+//! vectors a checkpoint holds (for `logo train --resume`).
+
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+/// Adam with PyTorch's defaults: β = (0.9, 0.999), ε = 1e-8 outside the square root.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Adam {
+    pub m: Vec<f64>,
+    pub v: Vec<f64>,
+    pub t: u64,
+}
+
+impl Adam {
+    pub fn step(&mut self, theta: &mut [f64], grad: &[f64], lr: f64) {
+        const B1: f64 = 0.9;
+        const B2: f64 = 0.999;
+        const EPS: f64 = 1e-8;
+        if self.m.len() != theta.len() {
+            (self.m, self.v) = (vec![0.0; theta.len()], vec![0.0; theta.len()]);
+        }
+        self.t += 1;
+        let (c1, c2) = (1.0 - B1.powi(self.t as i32), 1.0 - B2.powi(self.t as i32));
+        for (((x, g), m), v) in theta.iter_mut().zip(grad).zip(&mut self.m).zip(&mut self.v) {
+            *m = B1 * *m + (1.0 - B1) * g;
+            *v = B2 * *v + (1.0 - B2) * g * g;
+            *x -= lr * (*m / c1) / ((*v / c2).sqrt() + EPS);
+        }
+    }
+}
+
+/// Epochs over a batch in shuffled minibatches, one Adam step each.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdamEpochs {
+    pub epochs: usize,
+    pub minibatch: usize,
+    pub learning_rate: f64,
+    /// The gradient is scaled down to this Euclidean norm when longer (`None`: never).
+    pub max_grad_norm: Option<f64>,
+}
+
+/// How a run of [`AdamEpochs`] ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EpochsRun {
+    /// Epochs begun (the last one possibly cut short by the stop).
+    pub epochs: usize,
+    pub steps: usize,
+    /// Whether the minibatch function asked to stop before the last epoch ended.
+    pub stopped_early: bool,
+}
+
+impl AdamEpochs {
+    /// Runs the epochs over `rows` rows: `gradient(indices, theta)` is the minibatch's
+    /// gradient at `theta` (of a loss to minimise), or `None` to stop at once.
+    pub fn run(
+        &self,
+        adam: &mut Adam,
+        theta: &mut [f64],
+        rows: usize,
+        rng: &mut ChaCha8Rng,
+        mut gradient: impl FnMut(&[usize], &[f64]) -> Option<Vec<f64>>,
+    ) -> EpochsRun {
+        let mut order: Vec<usize> = (0..rows).collect();
+        let mut run = EpochsRun {
+            epochs: 0,
+            steps: 0,
+            stopped_early: false,
+        };
+        for _ in 0..self.epochs {
+            run.epochs += 1;
+            order.shuffle(rng);
+            for minibatch in order.chunks(self.minibatch.max(1)) {
+                let Some(mut grad) = gradient(minibatch, theta) else {
+                    run.stopped_early = true;
+                    return run;
+                };
+                if let Some(max) = self.max_grad_norm {
+                    let norm = grad.iter().map(|g| g * g).sum::<f64>().sqrt();
+                    if norm > max {
+                        grad.iter_mut().for_each(|g| *g *= max / norm);
+                    }
+                }
+                adam.step(theta, &grad, self.learning_rate);
+                run.steps += 1;
+            }
+        }
+        run
+    }
+}

@@ -1,0 +1,80 @@
+//! One row of `metrics.csv` per iteration: what the run did and where its time went.
+//! Written and read back (for `--resume`) through this one struct with the `csv` crate.
+
+use serde::{Deserialize, Serialize};
+
+use crate::policy_update::{StopReason, UpdateStats};
+
+/// A row of `metrics.csv`. NaN marks what an iteration did not compute (no evaluation,
+/// no guidance step); the stop reasons are then empty.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct IterationMetrics {
+    pub iteration: usize,
+    /// Samples collected up to and including this iteration.
+    pub samples: usize,
+    /// Seconds since the run started (across resumes).
+    pub wall_s: f64,
+    pub episodes: usize,
+    pub train_sparse_return: f64,
+    pub train_dense_return: f64,
+    /// Mean dense return of the deterministic policy (NaN when not evaluated).
+    pub eval_dense_return: f64,
+    /// The improvement step: mean KL(π_k ‖ π_{k+½}), step length ‖Δθ‖, why it stopped,
+    /// epochs (first-order kinds), β (`ppo-penalty`).
+    pub kl: f64,
+    pub step_norm: f64,
+    pub update_stop: Option<StopReason>,
+    pub update_epochs: usize,
+    pub update_beta: f64,
+    /// The guidance step, likewise (NaN / empty when it did not run).
+    pub guidance_kl: f64,
+    pub guidance_step_norm: f64,
+    pub guidance_stop: Option<StopReason>,
+    pub guidance_epochs: usize,
+    pub guidance_beta: f64,
+    pub delta_k: f64,
+    /// Mean log σ of the policy after the iteration.
+    pub mean_log_std: f64,
+    pub critic_loss: f64,
+    pub guidance_critic_loss: f64,
+    pub disc_loss: f64,
+    pub t_sampling: f64,
+    /// Advantages of both reward streams (critic evaluations, the guidance reward).
+    pub t_advantages: f64,
+    /// The critic fits (they run beside the policy steps).
+    pub t_critics: f64,
+    pub t_policy_step: f64,
+    pub t_guidance: f64,
+    pub t_discriminator: f64,
+    pub t_evaluation: f64,
+}
+
+impl IterationMetrics {
+    /// Records the improvement step.
+    pub fn improvement(&mut self, stats: &UpdateStats) {
+        self.kl = stats.kl;
+        self.step_norm = stats.step_norm;
+        self.update_stop = Some(stats.stop);
+        self.update_epochs = stats.epochs;
+        self.update_beta = stats.beta;
+    }
+
+    /// Records the guidance step, or that it did not run.
+    pub fn guidance(&mut self, stats: Option<&UpdateStats>) {
+        match stats {
+            Some(stats) => {
+                self.guidance_kl = stats.kl;
+                self.guidance_step_norm = stats.step_norm;
+                self.guidance_stop = Some(stats.stop);
+                self.guidance_epochs = stats.epochs;
+                self.guidance_beta = stats.beta;
+            }
+            None => {
+                self.guidance_kl = f64::NAN;
+                self.guidance_step_norm = f64::NAN;
+                self.guidance_stop = None;
+                self.guidance_beta = f64::NAN;
+            }
+        }
+    }
+}

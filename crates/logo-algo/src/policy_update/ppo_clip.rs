@@ -1,0 +1,113 @@
+//! `kind = "ppo-clip"`: the seed paper's Algorithm 3, early-stopping PPO-Clip. Epochs of
+//! minibatch Adam on the clipped surrogate −min(r·Â, clip(r, 1 − ε, 1 + ε)·Â), stopped as
+//! soon as a minibatch's mean KL from the step's starting policy exceeds λ·δ (δ: `max_kl`
+//! in the improvement step, δ_k in the guidance step), or after `epochs`.
+//!
+//! The seed paper gives no hyperparameters. The defaults are the PPO paper's for MuJoCo
+//! (Schulman et al. 2017, Table 3: ε 0.2, 10 epochs, minibatch 64, Adam lr 3e-4), the
+//! gradient-norm clip 0.5 and the stop at 1.5·target of Stable-Baselines3's PPO
+//! (`max_grad_norm`, `target_kl`).
+
+use logo_nn::{Engine, Policy};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use super::first_order::{Ascent, minibatch_ascent};
+use super::objective::{StepBatch, Surrogate};
+use super::{UpdateState, UpdateStats, check_positive};
+use crate::adam::AdamEpochs;
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PpoClipConfig {
+    #[serde(default = "default_epsilon")]
+    pub clip_epsilon: f64,
+    /// λ: stop once the KL exceeds λ·δ.
+    #[serde(default = "default_kl_stop")]
+    pub kl_stop: f64,
+    #[serde(default = "default_epochs")]
+    pub epochs: usize,
+    #[serde(default = "default_minibatch")]
+    pub minibatch: usize,
+    #[serde(default = "default_learning_rate")]
+    pub learning_rate: f64,
+    #[serde(default = "default_max_grad_norm")]
+    pub max_grad_norm: f64,
+}
+
+pub(super) fn default_epsilon() -> f64 {
+    0.2
+}
+fn default_kl_stop() -> f64 {
+    1.5
+}
+pub(super) fn default_epochs() -> usize {
+    10
+}
+pub(super) fn default_minibatch() -> usize {
+    64
+}
+pub(super) fn default_learning_rate() -> f64 {
+    3e-4
+}
+pub(super) fn default_max_grad_norm() -> f64 {
+    0.5
+}
+
+impl Default for PpoClipConfig {
+    fn default() -> Self {
+        Self {
+            clip_epsilon: default_epsilon(),
+            kl_stop: default_kl_stop(),
+            epochs: default_epochs(),
+            minibatch: default_minibatch(),
+            learning_rate: default_learning_rate(),
+            max_grad_norm: default_max_grad_norm(),
+        }
+    }
+}
+
+impl PpoClipConfig {
+    pub fn validate(&self, table: &str) -> Result<(), String> {
+        check_positive(&format!("{table}.clip_epsilon"), self.clip_epsilon, false)?;
+        check_positive(&format!("{table}.kl_stop"), self.kl_stop, false)?;
+        check_positive(&format!("{table}.learning_rate"), self.learning_rate, false)?;
+        check_positive(&format!("{table}.max_grad_norm"), self.max_grad_norm, false)?;
+        check_counts(table, self.epochs, self.minibatch)
+    }
+}
+
+/// `epochs` and `minibatch` of a first-order kind are at least 1.
+pub(super) fn check_counts(table: &str, epochs: usize, minibatch: usize) -> Result<(), String> {
+    for (key, value) in [("epochs", epochs), ("minibatch", minibatch)] {
+        if value == 0 {
+            return Err(format!("{table}.{key} must be at least 1"));
+        }
+    }
+    Ok(())
+}
+
+pub(super) fn update<E: Engine>(
+    config: &PpoClipConfig,
+    engine: &E,
+    policy: &Policy<E>,
+    batch: &StepBatch<E>,
+    delta: f64,
+    state: &mut UpdateState,
+    rng: &mut ChaCha8Rng,
+) -> (Policy<E>, UpdateStats) {
+    let epochs = AdamEpochs {
+        epochs: config.epochs,
+        minibatch: config.minibatch,
+        learning_rate: config.learning_rate,
+        max_grad_norm: Some(config.max_grad_norm),
+    };
+    let ascent = Ascent {
+        surrogate: Surrogate::Clipped {
+            epsilon: config.clip_epsilon,
+        },
+        epochs,
+        kl_bound: Some(config.kl_stop * delta),
+    };
+    minibatch_ascent(&ascent, engine, policy, batch, &mut state.adam, rng)
+}

@@ -1,0 +1,195 @@
+//! `kind = "trpo"`: the natural-gradient step of both of LOGO's steps (LOGO-FACTS):
+//! maximise the surrogate within KL ≤ δ: s = CG(F, g, 10 iterations), full step
+//! s·√(2δ / sᵀFs), backtracking over fractions 0.5^i (i < 10) until actual / expected
+//! improvement > 0.1, else no step.
+
+use logo_nn::flat::dot;
+use logo_nn::{Engine, FisherKind, FisherOperator, Policy, conjugate_gradient};
+use serde::{Deserialize, Serialize};
+
+use super::objective::{StepBatch, Surrogate, anchor, evaluate, gradient};
+use super::{StopReason, UpdateStats, check_positive};
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrpoConfig {
+    /// Added to F (times v). The reference: 0.01.
+    #[serde(default = "default_damping")]
+    pub damping: f64,
+    #[serde(default = "default_cg_iters")]
+    pub cg_iters: usize,
+    #[serde(default = "default_backtracks")]
+    pub backtracks: usize,
+    #[serde(default = "default_accept_ratio")]
+    pub accept_ratio: f64,
+    /// Also require the measured KL to be at most `kl_limit`·δ before accepting a step
+    /// (backtracking further otherwise). Off by default: the reference's line search checks
+    /// only the improvement, and its guidance steps often overshoot δ_k.
+    #[serde(default)]
+    pub kl_limit: Option<f64>,
+    /// F·v on this fraction of the batch (rows spread evenly over it, see
+    /// [`fisher_rows`]) instead of all of it: a cheaper, approximate curvature for the
+    /// conjugate gradient and the step size. 1 (the default) is exact, as the reference.
+    #[serde(default = "default_fisher_fraction")]
+    pub fisher_fraction: f64,
+    /// The operator F·v computes: "exact" (the default) or "reference" (LOGO's code).
+    #[serde(default)]
+    pub fisher: FisherKind,
+    /// `clip-in-trpo` only: ε of the clipped surrogate (default 0.2).
+    #[serde(default)]
+    pub clip_epsilon: Option<f64>,
+}
+
+fn default_damping() -> f64 {
+    0.01
+}
+fn default_cg_iters() -> usize {
+    10
+}
+fn default_backtracks() -> usize {
+    10
+}
+fn default_accept_ratio() -> f64 {
+    0.1
+}
+fn default_fisher_fraction() -> f64 {
+    1.0
+}
+
+impl Default for TrpoConfig {
+    fn default() -> Self {
+        Self {
+            damping: default_damping(),
+            cg_iters: default_cg_iters(),
+            backtracks: default_backtracks(),
+            accept_ratio: default_accept_ratio(),
+            kl_limit: None,
+            fisher_fraction: default_fisher_fraction(),
+            fisher: FisherKind::Exact,
+            clip_epsilon: None,
+        }
+    }
+}
+
+impl TrpoConfig {
+    pub fn validate(&self, table: &str) -> Result<(), String> {
+        let fraction = self.fisher_fraction;
+        if !(fraction > 0.0 && fraction <= 1.0) {
+            return Err(format!(
+                "{table}.fisher_fraction must be in (0, 1], got {fraction}"
+            ));
+        }
+        check_positive(&format!("{table}.damping"), self.damping, true)?;
+        check_positive(&format!("{table}.accept_ratio"), self.accept_ratio, true)?;
+        if let Some(limit) = self.kl_limit {
+            check_positive(&format!("{table}.kl_limit"), limit, false)?;
+        }
+        if let Some(epsilon) = self.clip_epsilon {
+            check_positive(&format!("{table}.clip_epsilon"), epsilon, false)?;
+        }
+        for (key, value) in [("cg_iters", self.cg_iters), ("backtracks", self.backtracks)] {
+            if value == 0 {
+                return Err(format!("{table}.{key} must be at least 1"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The rows F·v is computed on: `None` for all of them (`fraction` 1), else
+/// round(fraction · rows) (at least one) spread evenly, row ⌊j · rows / count⌋ for the
+/// j-th, so that every part of the batch (its episodes come one after another) is seen.
+pub fn fisher_rows(rows: usize, fraction: f64) -> Option<Vec<usize>> {
+    if fraction >= 1.0 {
+        return None;
+    }
+    let count = ((rows as f64 * fraction).round() as usize).clamp(1, rows.max(1));
+    Some((0..count).map(|j| j * rows / count).collect())
+}
+
+pub(super) fn update<E: Engine>(
+    config: &TrpoConfig,
+    engine: &E,
+    policy: &Policy<E>,
+    batch: &StepBatch<E>,
+    delta: f64,
+) -> (Policy<E>, UpdateStats) {
+    natural_gradient_step(config, Surrogate::Ratio, engine, policy, batch, delta)
+}
+
+/// g = ∇ surrogate, s = CG(F, g), full step s·√(2δ / sᵀFs), then the backtracking line
+/// search; `surrogate` is the objective (TRPO's ratio, or the clipped one).
+pub(super) fn natural_gradient_step<E: Engine>(
+    config: &TrpoConfig,
+    surrogate: Surrogate,
+    engine: &E,
+    policy: &Policy<E>,
+    batch: &StepBatch<E>,
+    delta: f64,
+) -> (Policy<E>, UpdateStats) {
+    let theta = policy.params(engine);
+    let trace = engine.trace(&policy.mean, &batch.obs);
+    let start = anchor(engine, policy, &trace);
+    let (before, grad) = gradient(engine, surrogate, policy, &trace, batch, &start);
+
+    // F·v on all rows (the trace above), or on a subsample with a trace of its own.
+    let subset = fisher_rows(batch.rows, config.fisher_fraction);
+    let subset_trace = subset
+        .as_ref()
+        .map(|rows| engine.trace(&policy.mean, &engine.select(&batch.obs, rows)));
+    let (fisher_trace, fisher_n) = match (&subset_trace, &subset) {
+        (Some(t), Some(rows)) => (t, rows.len()),
+        _ => (&trace, batch.rows),
+    };
+    let fisher = FisherOperator::new(
+        engine,
+        policy,
+        fisher_trace,
+        fisher_n,
+        config.damping,
+        config.fisher,
+    );
+    let direction = conjugate_gradient(|v| fisher.apply(v), &grad, config.cg_iters, 1e-10);
+    let shs = 0.5 * dot(&direction, &fisher.apply(&direction));
+    let unchanged = |stop| {
+        let stats = UpdateStats {
+            stop,
+            ..UpdateStats::default()
+        };
+        (policy.clone(), stats)
+    };
+    if !(shs > 0.0 && shs.is_finite()) {
+        return unchanged(StopReason::Degenerate);
+    }
+    let scale = (shs / delta).sqrt();
+    let full_step: Vec<f64> = direction.iter().map(|d| d / scale).collect();
+    let expected_full = dot(&grad, &full_step);
+
+    let mut fraction = 1.0;
+    for _ in 0..config.backtracks {
+        let candidate: Vec<f64> = theta
+            .iter()
+            .zip(&full_step)
+            .map(|(t, s)| t + fraction * s)
+            .collect();
+        let moved = policy.with_params(engine, &candidate);
+        let (value, kl) = evaluate(engine, surrogate, &moved, batch, &start);
+        let actual = value - before;
+        let expected = expected_full * fraction;
+        let kl_ok = config.kl_limit.is_none_or(|limit| kl <= limit * delta);
+        if actual / expected > config.accept_ratio && kl_ok {
+            let stats = UpdateStats {
+                kl,
+                step_norm: fraction * dot(&full_step, &full_step).sqrt(),
+                improvement: actual,
+                steps: fraction,
+                epochs: 0,
+                stop: StopReason::Accepted,
+                beta: 0.0,
+            };
+            return (moved, stats);
+        }
+        fraction *= 0.5;
+    }
+    unchanged(StopReason::NoImprovement)
+}

@@ -1,0 +1,95 @@
+//! The one place the engine is chosen: `--engine`, `--backend`, `--dtype` → a value of a
+//! type implementing `logo_nn::Engine`, handed to a generic command ([`WithEngine`]).
+
+use anyhow::{Result, bail};
+use clap::{Args, ValueEnum};
+use logo_nn::{BurnEngine, Engine, Kernels};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EngineKind {
+    /// The hand-tuned CPU kernels (the default).
+    Kernels,
+    /// burn tensor ops on `--backend`.
+    Burn,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Dtype {
+    /// float64 (the reference implementation's precision)
+    F64,
+    F32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BackendKind {
+    /// burn's ndarray backend, on the CPU.
+    Ndarray,
+    /// burn's wgpu backend (Vulkan, Metal, DX12; float32): build with `--features wgpu`.
+    Wgpu,
+    /// burn's CUDA backend: build with `--features cuda` (its build downloads LLVM).
+    Cuda,
+}
+
+/// How networks run: the engine, its backend and float type.
+#[derive(Args, Clone, Debug)]
+pub struct EngineArgs {
+    /// kernels (hand-tuned CPU, default) or burn (burn tensor ops on --backend).
+    #[arg(long, value_enum)]
+    pub engine: Option<EngineKind>,
+    /// The burn engine's backend (implies --engine burn; default ndarray).
+    #[arg(long, value_enum)]
+    pub backend: Option<BackendKind>,
+    #[arg(long, value_enum, default_value_t = Dtype::F64)]
+    pub dtype: Dtype,
+}
+
+/// A command generic over the engine, run once the engine is chosen.
+pub trait WithEngine {
+    type Output;
+    fn run<E: Engine>(self, engine: E) -> Result<Self::Output>;
+}
+
+impl EngineArgs {
+    /// Builds the chosen engine and runs `command` on it.
+    pub fn with<W: WithEngine>(&self, command: W) -> Result<W::Output> {
+        let engine = match (self.engine, self.backend) {
+            (Some(EngineKind::Kernels), Some(backend)) => {
+                bail!("--backend {backend:?} is for --engine burn, not kernels")
+            }
+            (Some(EngineKind::Kernels), None) | (None, None) => EngineKind::Kernels,
+            _ => EngineKind::Burn,
+        };
+        match (
+            engine,
+            self.backend.unwrap_or(BackendKind::Ndarray),
+            self.dtype,
+        ) {
+            (EngineKind::Kernels, _, Dtype::F64) => command.run(Kernels),
+            (EngineKind::Kernels, _, Dtype::F32) => {
+                bail!("the kernels engine computes in f64; for f32 use --engine burn")
+            }
+            (EngineKind::Burn, BackendKind::Ndarray, Dtype::F64) => {
+                command.run(BurnEngine::<logo_nn::Cpu>::new(
+                    Default::default(),
+                    "ndarray f64",
+                ))
+            }
+            (EngineKind::Burn, BackendKind::Ndarray, Dtype::F32) => {
+                command.run(BurnEngine::<logo_nn::Cpu32>::new(
+                    Default::default(),
+                    "ndarray f32",
+                ))
+            }
+            (EngineKind::Burn, BackendKind::Wgpu, _) => {
+                bail!(
+                    "this logo was built without burn's wgpu backend: build it with `cargo build --release -p logo-cli --features wgpu`"
+                )
+            }
+            (EngineKind::Burn, BackendKind::Cuda, _) => {
+                bail!(
+                    "this logo was built without burn's CUDA backend: build it with `cargo build --release -p logo-cli --features cuda` (its build downloads an LLVM toolchain)"
+                )
+            }
+        }
+    }
+}
