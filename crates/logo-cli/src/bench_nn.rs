@@ -7,7 +7,7 @@
 //!   product (the activations and curvature cached once per policy step, as TRPO uses it,
 //!   so the setup is reported apart), and one critic loss + gradient (a value net of the
 //!   policy's sizes);
-//! - the GEMM kernel against matrixmultiply on one block's products.
+//! - the GEMM on one row block's three products.
 
 use std::time::Instant;
 
@@ -67,21 +67,17 @@ struct EngineBench {
     critic_ms: f64,
 }
 
-/// The three products of one row block (`BLOCK_ROWS`) of a 128-wide hidden layer (forward x·W,
-/// reverse dz·Wᵀ and xᵀ·dz), through `logo_nn::kernels::gemm` and through
-/// matrixmultiply, alternated, one thread.
+/// The three products of one row block (`BLOCK_ROWS`) of a 128-wide hidden layer
+/// (forward x·W, reverse dz·Wᵀ and xᵀ·dz) through `logo_nn::kernels::gemm`, one thread.
 #[derive(Serialize)]
 struct GemmBench {
     shape: &'static str,
-    kernel_ms: f64,
-    portable_ms: f64,
-    /// portable / kernel, median of per-repeat ratios.
-    speedup: f64,
-    kernel_gflops: f64,
+    ms: f64,
+    gflops: f64,
 }
 
 fn bench_gemm(args: &NnBenchArgs) -> Vec<GemmBench> {
-    use logo_nn::kernels::gemm::{Finish, Start, gemm, gemm_portable};
+    use logo_nn::kernels::gemm::{Finish, Start, gemm};
     let (rows, width) = (logo_nn::kernels::mlp::BLOCK_ROWS, 128);
     let x: Vec<f64> = (0..rows * width)
         .map(|k| ((k as f64) * 0.37).sin())
@@ -129,35 +125,21 @@ fn bench_gemm(args: &NnBenchArgs) -> Vec<GemmBench> {
         .iter()
         .map(|&(shape, dims, a, sa, b, sb)| {
             let mut c = vec![0.0; dims.0 * dims.2];
-            let mut timed = |portable: bool| {
+            let mut timed = || {
                 time(|| {
                     for _ in 0..passes {
-                        if portable {
-                            gemm_portable(dims, a, sa, b, sb, &mut c, Start::Zero, Finish::None);
-                        } else {
-                            gemm(dims, a, sa, b, sb, &mut c, Start::Zero, Finish::None);
-                        }
+                        gemm(dims, a, sa, b, sb, &mut c, Start::Zero, Finish::None);
                         std::hint::black_box(&c);
                     }
                 })
                 .1 / passes as f64
             };
-            timed(false); // warm-up
-            timed(true);
-            let (mut kernel, mut portable, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
-            for _ in 0..args.repeats {
-                let (k, p) = (timed(false), timed(true));
-                kernel.push(k);
-                portable.push(p);
-                ratios.push(p / k);
-            }
-            let kernel_s = median(kernel);
+            timed(); // warm-up
+            let seconds = median((0..args.repeats).map(|_| timed()).collect());
             GemmBench {
                 shape,
-                kernel_ms: kernel_s * 1e3,
-                portable_ms: median(portable) * 1e3,
-                speedup: median(ratios),
-                kernel_gflops: 2.0 * (dims.0 * dims.1 * dims.2) as f64 / kernel_s / 1e9,
+                ms: seconds * 1e3,
+                gflops: 2.0 * (dims.0 * dims.1 * dims.2) as f64 / seconds / 1e9,
             }
         })
         .collect()
@@ -353,8 +335,8 @@ pub fn run(args: &NnBenchArgs) -> Result<()> {
     );
     for g in &gemms {
         println!(
-            "gemm {}: kernel {:.3} ms ({:.1} GFLOP/s), matrixmultiply {:.3} ms, speedup {:.2}",
-            g.shape, g.kernel_ms, g.kernel_gflops, g.portable_ms, g.speedup
+            "gemm {}: {:.3} ms ({:.1} GFLOP/s, one thread)",
+            g.shape, g.ms, g.gflops
         );
     }
     Ok(())

@@ -42,8 +42,9 @@ enum Command {
 }
 
 /// glibc hands every allocation above 128 KiB to `mmap` and returns it on free, so each
-/// tensor op of a training batch (several MB) faulted in fresh zeroed pages: 15% of an
-/// iteration in a profile. Raising the thresholds keeps those buffers in the heap for reuse.
+/// buffer of a training batch (a block's activations, a tensor op's result) would fault
+/// in fresh zeroed pages. Raising the thresholds keeps those buffers in the heap for reuse
+/// (docs/benchmarks.md has the measurement).
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn keep_large_buffers() {
     unsafe extern "C" {

@@ -20,7 +20,7 @@ pub enum DataError {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("{}: not a .npy file this reader handles: {reason}", path.display())]
+    #[error("{}: not a .npy array of floats: {reason}", path.display())]
     Npy { path: PathBuf, reason: String },
     #[error("{}: rows have {found} columns, expected obs {obs_dim} + action {act_dim} = {}", path.display(), obs_dim + act_dim)]
     Columns {
@@ -107,7 +107,7 @@ impl Demonstrations {
         }
     }
 
-    /// Reads a `[rows, obs_dim + act_dim]` float64 `.npy` array of `[obs ‖ action]` rows,
+    /// Reads a `[rows, obs_dim + act_dim]` float `.npy` array of `[obs ‖ action]` rows,
     /// checking the width against the env's dims and every value for finiteness.
     pub fn from_npy(path: &Path, obs_dim: usize, act_dim: usize) -> Result<Self, DataError> {
         let array = read_npy(path)?;

@@ -82,11 +82,50 @@ fn bad_files_are_errors_naming_the_problem() {
         ),
         "{err}"
     );
+    // Integers are refused, naming the dtype found.
+    std::fs::write(&path, npy_bytes("<i8", &[2, 3], &[0.0; 6])).unwrap();
+    let err = read_npy(&path).unwrap_err().to_string();
+    assert!(err.contains("<i8") && err.contains("d.npy"), "{err}");
+    // A float32 header over float64-sized data: the sizes disagree.
     std::fs::write(&path, npy_bytes("<f4", &[2, 3], &[0.0; 6])).unwrap();
-    assert!(read_npy(&path).unwrap_err().to_string().contains("'<f4'"));
+    let err = read_npy(&path).unwrap_err().to_string();
+    assert!(
+        err.contains("needs 24 data bytes, the file has 48"),
+        "{err}"
+    );
+    // A shape whose size overflows is an error before anything is allocated.
+    let dict = "{'descr': '<f8', 'fortran_order': False, 'shape': (4611686018427387904, 8), }";
+    let mut huge = b"\x93NUMPY\x01\x00".to_vec();
+    huge.extend((dict.len() as u16 + 1).to_le_bytes());
+    huge.extend(dict.as_bytes());
+    huge.push(b'\n');
+    huge.extend([0u8; 64]);
+    std::fs::write(&path, &huge).unwrap();
+    let err = read_npy(&path).unwrap_err().to_string();
+    assert!(err.contains("overflows"), "{err}");
     // Every truncation is an error, never a panic.
     for n in 0..good.len() {
         std::fs::write(&path, &good[..n]).unwrap();
         assert!(read_npy(&path).is_err(), "truncated to {n} bytes");
     }
+}
+
+/// float32 arrays (as NumPy writes them by default from float32 data) load widened.
+#[test]
+fn float32_arrays_load_as_float64() {
+    use npyz::WriterBuilder;
+    let path = std::env::temp_dir().join(format!("logo-npy-f32-{}.npy", std::process::id()));
+    let values: Vec<f32> = vec![0.5, -1.25, 3.0, 1e-3, 7.5, -2.0];
+    let mut writer = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(&[3, 2])
+        .writer(std::fs::File::create(&path).unwrap())
+        .begin_nd()
+        .unwrap();
+    writer.extend(values.iter().copied()).unwrap();
+    writer.finish().unwrap();
+    let array = read_npy(&path).unwrap();
+    assert_eq!(array.shape, vec![3, 2]);
+    let want: Vec<f64> = values.iter().map(|&v| f64::from(v)).collect();
+    assert_eq!(array.data, want);
 }

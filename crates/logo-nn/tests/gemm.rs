@@ -1,8 +1,9 @@
-//! The host GEMM (AVX-512 kernel where the CPU has it) against a plain triple loop and
-//! against matrixmultiply, over the shapes that exercise its edges: partial micro-tiles
-//! in m and n, k crossing the packing chunk, transposed operands, accumulate or not.
+//! The kernels' GEMM (the `gemm` crate, and the direct product for a few rows) against a
+//! plain triple loop, over the shapes that exercise its edges: a few rows, one column,
+//! k = 0 and 1, partial tiles, transposed operands, accumulate or not, and the fused
+//! bias / tanh starts and finishes.
 
-use logo_nn::kernels::gemm::{Finish, Start, gemm, gemm_portable, gemm_to_vec};
+use logo_nn::kernels::gemm::{Finish, Start, gemm, gemm_to_vec};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -33,7 +34,7 @@ fn reference(
     scale
 }
 
-fn start(accumulate: bool) -> Start<'static> {
+fn start(accumulate: bool) -> Start<'static, f64> {
     if accumulate {
         Start::Accumulate
     } else {
@@ -62,10 +63,10 @@ fn gemm_matches_the_definition_on_every_edge() {
         (3, 130, 70),
         (4, 11, 128),
         (2, 64, 200),
-        // One column with A transposed: the weighted sum of A's columns.
+        // One column (a value net's output layer).
         (128, 256, 1),
         (70, 3, 1),
-        // k = 1: the outer product (from zero) or the kernel (accumulating).
+        // k = 1: an outer product (a net's output layer, backwards).
         (300, 1, 128),
         (37, 1, 20),
     ];
@@ -91,28 +92,15 @@ fn gemm_matches_the_definition_on_every_edge() {
                         start(accumulate),
                         Finish::None,
                     );
-                    let mut portable = c0.clone();
-                    gemm_portable(
-                        (m, k, n),
-                        &a,
-                        sa,
-                        &b,
-                        sb,
-                        &mut portable,
-                        start(accumulate),
-                        Finish::None,
-                    );
-                    for (name, got) in [("gemm", &fast), ("gemm_portable", &portable)] {
-                        for idx in 0..m * n {
-                            let err = (got[idx] - expected[idx]).abs();
-                            assert!(
-                                err <= 1e-14 * (scale[idx] + 1.0),
-                                "{name} {m}x{k}x{n} ta={transposed_a} tb={transposed_b} \
-                                 acc={accumulate} at {idx}: {} vs {}",
-                                got[idx],
-                                expected[idx]
-                            );
-                        }
+                    for idx in 0..m * n {
+                        let err = (fast[idx] - expected[idx]).abs();
+                        assert!(
+                            err <= 1e-14 * (scale[idx] + 1.0),
+                            "{m}x{k}x{n} ta={transposed_a} tb={transposed_b} \
+                             acc={accumulate} at {idx}: {} vs {}",
+                            fast[idx],
+                            expected[idx]
+                        );
                     }
                     checked += 1;
                 }
@@ -146,9 +134,8 @@ fn gemm_writes_only_its_output() {
 #[test]
 fn bias_and_tanh_finishes_match_the_separate_passes() {
     // Start::Bias then Finish::Tanh == bias + A·B then tanh; Finish::TanhDerivative(h)
-    // == (A·B) ⊙ (1 − h²); on shapes with partial tiles, both kernels.
+    // == (A·B) ⊙ (1 − h²); on shapes with partial tiles, few rows, k = 0 and k = 1.
     let mut rng = ChaCha8Rng::seed_from_u64(11);
-    // k = 1 from zero: the outer product (a net's output layer, backwards).
     for &(m, k, n) in &[
         (13, 130, 17),
         (256, 128, 128),
@@ -174,54 +161,39 @@ fn bias_and_tanh_finishes_match_the_separate_passes() {
             .zip(&h)
             .map(|(p, h)| p * (1.0 - h * h))
             .collect();
-        type Gemm = fn(
-            (usize, usize, usize),
-            &[f64],
-            (usize, usize),
-            &[f64],
-            (usize, usize),
-            &mut [f64],
-            Start,
-            Finish,
+        let mut got = vec![f64::NAN; m * n];
+        gemm(
+            (m, k, n),
+            &a,
+            (k, 1),
+            &b,
+            (n, 1),
+            &mut got,
+            Start::Bias(&bias),
+            Finish::Tanh,
         );
-        for (name, f) in [
-            ("gemm", gemm as Gemm),
-            ("gemm_portable", gemm_portable as Gemm),
-        ] {
-            let mut got = vec![f64::NAN; m * n];
-            f(
-                (m, k, n),
-                &a,
-                (k, 1),
-                &b,
-                (n, 1),
-                &mut got,
-                Start::Bias(&bias),
-                Finish::Tanh,
+        for i in 0..m * n {
+            assert!(
+                (got[i] - tanh[i]).abs() <= 1e-14 * (scale[i] + 2.0),
+                "tanh {m}x{k}x{n} at {i}"
             );
-            for i in 0..m * n {
-                assert!(
-                    (got[i] - tanh[i]).abs() <= 1e-14 * (scale[i] + 2.0),
-                    "{name} tanh {m}x{k}x{n} at {i}"
-                );
-            }
-            let mut got = vec![f64::NAN; m * n];
-            f(
-                (m, k, n),
-                &a,
-                (k, 1),
-                &b,
-                (n, 1),
-                &mut got,
-                Start::Zero,
-                Finish::TanhDerivative(&h),
+        }
+        let mut got = vec![f64::NAN; m * n];
+        gemm(
+            (m, k, n),
+            &a,
+            (k, 1),
+            &b,
+            (n, 1),
+            &mut got,
+            Start::Zero,
+            Finish::TanhDerivative(&h),
+        );
+        for i in 0..m * n {
+            assert!(
+                (got[i] - back[i]).abs() <= 1e-14 * (scale[i] + 1.0),
+                "tanh' {m}x{k}x{n} at {i}"
             );
-            for i in 0..m * n {
-                assert!(
-                    (got[i] - back[i]).abs() <= 1e-14 * (scale[i] + 1.0),
-                    "{name} tanh' {m}x{k}x{n} at {i}"
-                );
-            }
         }
     }
 }

@@ -443,27 +443,10 @@ fn sum_in_order(len: usize, per_block: &[Vec<f64>]) -> Vec<f64> {
 }
 
 /// jv[r, k] += Σ_j dz[r, j] · sens[k][r, j] for every row r and output k: a layer's
-/// direct term carried to the outputs (`width` units per row).
+/// direct term carried to the outputs (`width` units per row). These loops stream the
+/// cached sensitivities; `multiversion` compiles them for AVX-512 and AVX2 as well.
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx2+fma", "x86_64+avx2+fma"))]
 fn dot_rows(jv: &mut [f64], dz: &[f64], sens: &[Vec<f64>], width: usize) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f") {
-        // SAFETY: the CPU has AVX-512F.
-        return unsafe { dot_rows_avx512(jv, dz, sens, width) };
-    }
-    dot_rows_loop(jv, dz, sens, width);
-}
-
-/// The same loop compiled for AVX-512 (the same operations in the same order: the same
-/// bits as [`dot_rows_loop`]); these loops stream the cached sensitivities and were a
-/// fifth of a Gauss–Newton product's time in SSE2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-unsafe fn dot_rows_avx512(jv: &mut [f64], dz: &[f64], sens: &[Vec<f64>], width: usize) {
-    dot_rows_loop(jv, dz, sens, width);
-}
-
-#[inline(always)]
-fn dot_rows_loop(jv: &mut [f64], dz: &[f64], sens: &[Vec<f64>], width: usize) {
     let outputs = sens.len();
     for (r, (d, jv)) in dz
         .chunks_exact(width)
@@ -478,24 +461,8 @@ fn dot_rows_loop(jv: &mut [f64], dz: &[f64], sens: &[Vec<f64>], width: usize) {
 
 /// g[r, j] = Σ_k sens[k][r, j] · u[r, k]: the gradient at a layer's pre-activations from
 /// the outputs' upstream `u`.
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx2+fma", "x86_64+avx2+fma"))]
 fn combine_rows(g: &mut [f64], sens: &[Vec<f64>], u: &[f64], width: usize) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f") {
-        // SAFETY: the CPU has AVX-512F.
-        return unsafe { combine_rows_avx512(g, sens, u, width) };
-    }
-    combine_rows_loop(g, sens, u, width);
-}
-
-/// As [`dot_rows_avx512`].
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-unsafe fn combine_rows_avx512(g: &mut [f64], sens: &[Vec<f64>], u: &[f64], width: usize) {
-    combine_rows_loop(g, sens, u, width);
-}
-
-#[inline(always)]
-fn combine_rows_loop(g: &mut [f64], sens: &[Vec<f64>], u: &[f64], width: usize) {
     let outputs = sens.len();
     for (r, (g, u)) in g
         .chunks_exact_mut(width)

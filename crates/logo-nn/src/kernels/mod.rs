@@ -3,8 +3,10 @@
 //! the GEMM they are made of, and a vectorised tanh. They compute what the burn
 //! definition in [`crate::mlp`] defines; `tests/kernels.rs` holds them to it.
 
+pub mod float;
 pub mod gemm;
 pub mod mlp;
 pub mod tanh;
 
+pub use float::KernelFloat;
 pub use mlp::{HostMlp, HostTrace, OutputSensitivities};

@@ -1,101 +1,23 @@
 //! tanh of a buffer in place, branch-free and vectorised: the activation of every hidden
-//! layer on the kernels engine (libm's scalar `tanh` was a third of an iteration).
+//! layer on the kernels engine, where libm's scalar `tanh` would cost more than the
+//! products around it (docs/benchmarks.md).
 
 /// tanh of every value, within a few ulp of libm's (tested), several times faster: the
-/// loop is branch-free so the compiler vectorises it, and on CPUs with AVX2 and FMA a copy
-/// compiled for them is chosen at run time.
+/// loop is branch-free so the compiler vectorises it, and `multiversion` compiles a copy
+/// for AVX-512 and one for AVX2, both with FMA, chosen at run time.
 ///
 /// tanh|x| = e/(e + 2) with e = expm1(2|x|). expm1 by range reduction, 2|x| = n ln 2 + r,
 /// |r| ≤ ln2/2: expm1 = 2ⁿ·expm1(r) + (2ⁿ − 1), and expm1(r) = r·Σ r^k/(k+1)! (14 terms),
 /// which keeps full relative precision near 0 without a second polynomial.
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx2+fma", "x86_64+avx2+fma"))]
 pub fn tanh_f64_in_place(values: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has the features this copy is compiled for (checked here).
-            unsafe { tanh_avx512(values) };
-        } else {
-            // SAFETY: as above.
-            unsafe { tanh_avx2_fma(values) };
-        }
-        return;
+    // Fused multiply-adds only where the CPU has them: elsewhere `mul_add` is a slow
+    // library call (the results differ in the last bits, the same on every such CPU).
+    if multiversion::target::target_cfg_f!(target_feature = "fma") {
+        tanh_loop::<true>(values)
+    } else {
+        tanh_loop::<false>(values)
     }
-    tanh_loop::<false>(values);
-}
-
-/// The loop of [`tanh_loop`] written with AVX-512 intrinsics, four vectors at a time. The
-/// compiler vectorised the plain loop one vector per step, and that step is one long
-/// chain of dependent operations (13 FMAs of Horner, then a division): the scheduler
-/// filled up with waiting µops and a value took ≈ 7 cycles. Four independent chains
-/// interleaved keep the FMA units busy. Every value goes through exactly the operations
-/// of `tanh_loop::<true>` in the same order, so the results are the same to the bit
-/// (tested), the tail included (it runs `tanh_loop` itself).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2,fma")]
-unsafe fn tanh_avx512(values: &mut [f64]) {
-    use std::arch::x86_64::*;
-    const WAYS: usize = 4;
-    let splat = _mm512_set1_pd;
-    let mut chunks = values.chunks_exact_mut(8 * WAYS);
-    for chunk in &mut chunks {
-        let at = |w: usize| chunk.as_ptr().wrapping_add(8 * w);
-        // SAFETY: the chunk holds WAYS × 8 values.
-        let x: [__m512d; WAYS] = std::array::from_fn(|w| unsafe { _mm512_loadu_pd(at(w)) });
-        let each = |f: &dyn Fn(usize) -> __m512d| -> [__m512d; WAYS] { std::array::from_fn(f) };
-        let z =
-            each(&|w| _mm512_min_pd(_mm512_mul_pd(splat(2.0), _mm512_abs_pd(x[w])), splat(40.0)));
-        let t =
-            each(&|w| _mm512_add_pd(_mm512_mul_pd(z[w], splat(TANH_INV_LN2)), splat(TANH_SHIFT)));
-        let n = each(&|w| _mm512_sub_pd(t[w], splat(TANH_SHIFT)));
-        let r = each(&|w| {
-            _mm512_sub_pd(
-                _mm512_sub_pd(z[w], _mm512_mul_pd(n[w], splat(TANH_LN2_HI))),
-                _mm512_mul_pd(n[w], splat(TANH_LN2_LO)),
-            )
-        });
-        let mut q = [splat(INV_FACTORIALS[14]); WAYS];
-        for k in (1..14).rev() {
-            q = each(&|w| _mm512_fmadd_pd(q[w], r[w], splat(INV_FACTORIALS[k])));
-        }
-        let expm1_r = each(&|w| _mm512_mul_pd(q[w], r[w]));
-        let two_to_n = each(&|w| {
-            let bits = _mm512_sub_epi64(
-                _mm512_castpd_si512(t[w]),
-                _mm512_set1_epi64(TANH_SHIFT.to_bits() as i64),
-            );
-            _mm512_castsi512_pd(_mm512_slli_epi64::<52>(_mm512_add_epi64(
-                bits,
-                _mm512_set1_epi64(1023),
-            )))
-        });
-        let e = each(&|w| {
-            _mm512_fmadd_pd(
-                two_to_n[w],
-                expm1_r[w],
-                _mm512_sub_pd(two_to_n[w], splat(1.0)),
-            )
-        });
-        let sign = _mm512_set1_epi64(i64::MIN);
-        for w in 0..WAYS {
-            let magnitude =
-                _mm512_castpd_si512(_mm512_div_pd(e[w], _mm512_add_pd(e[w], splat(2.0))));
-            let signed = _mm512_or_si512(
-                _mm512_andnot_si512(sign, magnitude),
-                _mm512_and_si512(sign, _mm512_castpd_si512(x[w])),
-            );
-            let nan = _mm512_cmp_pd_mask::<_CMP_UNORD_Q>(x[w], x[w]);
-            let y = _mm512_mask_blend_pd(nan, _mm512_castsi512_pd(signed), x[w]);
-            // SAFETY: as the loads.
-            unsafe { _mm512_storeu_pd(chunk.as_mut_ptr().add(8 * w), y) };
-        }
-    }
-    tanh_loop::<true>(chunks.into_remainder());
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn tanh_avx2_fma(values: &mut [f64]) {
-    tanh_loop::<true>(values);
 }
 
 /// `FMA`: fuse the polynomial steps (only where the CPU has FMA: elsewhere `mul_add`
@@ -156,9 +78,9 @@ const INV_FACTORIALS: [f64; 21] = {
 mod tests {
     use super::*;
 
-    /// Whichever copy `tanh_f64_in_place` picks on this CPU (AVX-512 intrinsics, AVX2, or
-    /// the plain loop) gives the plain loop's result to the bit: the copies exist for
-    /// speed only, so a change in them must not move a training run.
+    /// Whichever copy `tanh_f64_in_place` picks on this CPU (AVX-512, AVX2, or the plain
+    /// loop) gives the plain loop's result to the bit: the copies exist for speed only, so
+    /// a change in them must not move a training run.
     #[test]
     fn every_copy_of_tanh_gives_the_plain_loops_bits() {
         let mut xs: Vec<f64> = (0..20_011)
