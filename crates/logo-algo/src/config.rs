@@ -6,6 +6,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use logo_nn::DiscriminatorInit;
+
 use crate::critic::CriticConfig;
 use crate::policy_update::{PolicyUpdateConfig, check_positive};
 use crate::rollout::RolloutMode;
@@ -80,6 +82,10 @@ pub struct GuidanceConfig {
     pub discriminator_lr: f64,
     #[serde(default = "default_hidden")]
     pub discriminator_hidden: Vec<usize>,
+    /// The discriminator's output layer at the start: "reference" (×0.1, bias 0: the
+    /// LOGO code's, the default) or "uniform" (PyTorch's default init).
+    #[serde(default)]
+    pub discriminator_init: DiscriminatorInit,
     /// The guidance step's kind (`[guidance.update]`); default: the improvement step's.
     pub update: Option<PolicyUpdateConfig>,
     /// The guidance reward's critic (`[guidance.critic]`); default: `[critic]`'s.

@@ -12,7 +12,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::adam::{Adam, AdamEpochs};
-use crate::lbfgs;
+use crate::lbfgs::{self, LineSearch};
 use crate::policy_update::check_positive;
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -74,6 +74,9 @@ pub struct LbfgsFit {
     pub iterations: usize,
     #[serde(default = "default_l2")]
     pub l2: f64,
+    /// "backtracking" (the default) or "strong-wolfe" (the reference's SciPy L-BFGS-B).
+    #[serde(default)]
+    pub line_search: LineSearch,
 }
 
 fn default_lbfgs_iterations() -> usize {
@@ -88,6 +91,7 @@ impl Default for LbfgsFit {
         Self {
             iterations: default_lbfgs_iterations(),
             l2: default_l2(),
+            line_search: LineSearch::Backtracking,
         }
     }
 }
@@ -224,7 +228,8 @@ impl<E: Engine> CriticSet<E> {
                 CriticFit::Lbfgs(fit) => {
                     let mut objective =
                         ValueObjective::new(engine, &self.dims, obs, &targets, fit.l2);
-                    let result = lbfgs::minimize(&mut objective, theta0, fit.iterations);
+                    let result =
+                        lbfgs::minimize(&mut objective, theta0, fit.iterations, fit.line_search);
                     (result.x, result.loss)
                 }
                 CriticFit::Adam(fit) => {

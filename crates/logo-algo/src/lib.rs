@@ -19,6 +19,7 @@ pub mod gae;
 pub mod guidance;
 pub mod lbfgs;
 pub mod metrics;
+pub mod more_thuente;
 pub mod policy_update;
 pub mod rollout;
 pub mod run_dir;

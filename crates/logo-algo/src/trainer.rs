@@ -713,6 +713,7 @@ impl Modules {
                         observe,
                         act_dim,
                         hidden: g.discriminator_hidden.clone(),
+                        init: g.discriminator_init,
                     }
                     .init(&device),
                 )

@@ -8,12 +8,25 @@ use serde::{Deserialize, Serialize};
 
 use crate::mlp::{Mlp, MlpConfig};
 
+/// How the discriminator's output layer starts.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DiscriminatorInit {
+    /// The LOGO reference's: weights ×0.1, bias 0 (`models/mlp_discriminator.py`), so
+    /// D starts near ½ on every pair.
+    #[default]
+    Reference,
+    /// PyTorch's default for a linear layer, U(±1/√fan_in) (what this port used before).
+    Uniform,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DiscriminatorConfig {
     /// Observation dimensions the discriminator sees: `obs[..observe]`.
     pub observe: usize,
     pub act_dim: usize,
     pub hidden: Vec<usize>,
+    pub init: DiscriminatorInit,
 }
 
 impl DiscriminatorConfig {
@@ -22,6 +35,7 @@ impl DiscriminatorConfig {
             observe,
             act_dim,
             hidden: vec![128, 128],
+            init: DiscriminatorInit::Reference,
         }
     }
 
@@ -30,7 +44,10 @@ impl DiscriminatorConfig {
             input: self.observe + self.act_dim,
             hidden: self.hidden.clone(),
             output: 1,
-            output_scale: None,
+            output_scale: match self.init {
+                DiscriminatorInit::Reference => Some(0.1),
+                DiscriminatorInit::Uniform => None,
+            },
         };
         Discriminator {
             net: net.init(device),

@@ -26,7 +26,7 @@ pub use burn;
 
 pub use checkpoint::{Checkpoint, CheckpointError, CheckpointMeta};
 pub use critic::{ValueNet, ValueNetConfig};
-pub use discriminator::{Discriminator, DiscriminatorConfig};
+pub use discriminator::{Discriminator, DiscriminatorConfig, DiscriminatorInit};
 pub use engine::{BurnEngine, Engine, Kernels};
 pub use fisher::{FisherKind, FisherOperator, conjugate_gradient};
 pub use mlp::{Mlp, MlpConfig};

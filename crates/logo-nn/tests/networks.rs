@@ -68,3 +68,41 @@ fn softplus_is_stable_and_float64_exact() {
         assert!((a - b).abs() <= 1e-15 * b.abs().max(1e-300), "{a} vs {b}");
     }
 }
+
+/// The reference initialises the discriminator's output layer ×0.1 with zero bias
+/// (LOGO-FACTS), so D starts near ½; "uniform" keeps PyTorch's default init.
+#[test]
+fn the_discriminator_output_layer_starts_as_the_reference_s() {
+    use logo_nn::DiscriminatorInit;
+    use logo_nn::flat::params_to_vec;
+    let device = Default::default();
+    let mut config = DiscriminatorConfig::new(11, 3);
+    assert_eq!(config.init, DiscriminatorInit::Reference, "the default");
+    let bound = 1.0 / (128f64).sqrt(); // U(±1/√fan_in) before the scaling
+    let mut output_layer = |init| {
+        config.init = init;
+        let disc = config.init::<Cpu>(&device);
+        let last = disc.net.layers.last().unwrap();
+        (
+            to_f64(last.weight.val()),
+            to_f64(last.bias.as_ref().unwrap().val()),
+            params_to_vec(&disc.net),
+        )
+    };
+    let (w, b, _) = output_layer(DiscriminatorInit::Reference);
+    assert!(
+        w.iter().all(|w| w.abs() <= 0.1 * bound),
+        "weights within 0.1/√128"
+    );
+    assert!(
+        w.iter().any(|w| w.abs() > 0.05 * bound),
+        "scaled, not zeroed"
+    );
+    assert_eq!(b, vec![0.0]);
+    let (w, b, _) = output_layer(DiscriminatorInit::Uniform);
+    assert!(
+        w.iter().any(|w| w.abs() > 0.1 * bound),
+        "PyTorch's default range"
+    );
+    assert_ne!(b, vec![0.0]);
+}
