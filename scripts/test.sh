@@ -11,6 +11,11 @@ cd "$root"
 # CARGO_TARGET_DIR outside the checkout.
 # Tests that use the Python oracle fail instead of skipping when it is missing.
 export LOGO_REQUIRE_PYTHON=1
+# On CI the Slurm integration test must run (it installs and starts a single-node
+# cluster through scripts/slurm-cluster.sh, as root, and stops it at the end).
+if [ "${CI:-}" = true ]; then
+  export LOGO_REQUIRE_SLURM=1
+fi
 export LD_LIBRARY_PATH="$root/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 
 echo "== parity fixtures vs the Gymnasium 1.4.0 oracle"

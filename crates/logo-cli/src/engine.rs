@@ -43,6 +43,30 @@ pub struct EngineArgs {
     pub dtype: Dtype,
 }
 
+impl EngineArgs {
+    /// The flags that select this engine again (passed on to child `logo train`s).
+    pub fn to_args(&self) -> Vec<String> {
+        let name = |v: &dyn Fn() -> Option<clap::builder::PossibleValue>| {
+            v().map(|p| p.get_name().to_string()).unwrap_or_default()
+        };
+        let mut args = Vec::new();
+        if let Some(engine) = self.engine {
+            args.extend(["--engine".to_string(), name(&|| engine.to_possible_value())]);
+        }
+        if let Some(backend) = self.backend {
+            args.extend([
+                "--backend".to_string(),
+                name(&|| backend.to_possible_value()),
+            ]);
+        }
+        args.extend([
+            "--dtype".to_string(),
+            name(&|| self.dtype.to_possible_value()),
+        ]);
+        args
+    }
+}
+
 /// A command generic over the engine, run once the engine is chosen.
 pub trait WithEngine {
     type Output;

@@ -5,7 +5,10 @@ mod bench_nn;
 mod data;
 mod engine;
 mod eval;
+mod plot;
 mod rollout;
+mod slurm;
+mod sweep;
 mod train;
 
 use std::process::ExitCode;
@@ -39,6 +42,14 @@ enum Command {
     /// Demonstration datasets: import, inspect, record.
     #[command(subcommand)]
     Data(data::DataCommand),
+    /// Run configs x seeds, locally or as a Slurm job array; skips finished runs and
+    /// resumes interrupted ones.
+    Sweep(sweep::SweepArgs),
+    /// Plot dense evaluation return against samples: mean ± std over seeds per config.
+    Plot(plot::PlotArgs),
+    /// One run of a written sweep plan (what a Slurm array task runs).
+    #[command(hide = true)]
+    SweepTask(sweep::TaskArgs),
 }
 
 /// glibc hands every allocation above 128 KiB to `mmap` and returns it on free, so each
@@ -72,6 +83,9 @@ fn main() -> ExitCode {
         Command::Eval(args) => eval::run(&args),
         Command::Bench(cmd) => bench::run(&cmd),
         Command::Data(cmd) => data::run(&cmd),
+        Command::Sweep(args) => sweep::run(&args),
+        Command::Plot(args) => plot::run(&args),
+        Command::SweepTask(args) => sweep::run_task(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

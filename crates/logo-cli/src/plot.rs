@@ -1,0 +1,539 @@
+//! `logo plot RUN_DIRS… --out FIG.png|FIG.svg`: dense evaluation return against samples,
+//! one line per configuration with a mean ± std band over its seeds, as the LOGO paper's
+//! Figure 1 and the seed paper's Figures 2-3 draw them. The numbers drawn are written
+//! beside the figure as CSV (`FIG.csv`).
+//!
+//! A folder holding `metrics.csv` is a run; any other folder is searched (two levels
+//! down) for runs, so a `logo sweep` folder plots as a whole. Runs in folders named
+//! `seed<N>` are grouped by their parent folder (a sweep's `<out>/<name>/seed<N>`); any
+//! other run is its own group. Each run's curve is interpolated onto a common grid of
+//! sample counts over the range every seed of its group covers, then averaged.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail, ensure};
+use clap::Args;
+use plotters::prelude::*;
+
+#[derive(Args)]
+pub struct PlotArgs {
+    /// Run folders, or folders holding runs (a sweep's output).
+    #[arg(required = true)]
+    runs: Vec<PathBuf>,
+    /// The figure: .png or .svg. Its data go to the same path with .csv.
+    #[arg(long)]
+    out: PathBuf,
+    /// Moving average over this many evaluations (centred) before averaging seeds.
+    #[arg(long, default_value_t = 1)]
+    smooth: usize,
+    /// A horizontal reference line, NAME=VALUE (e.g. behaviour=1380); repeatable.
+    #[arg(long = "hline", value_parser = parse_hline)]
+    hlines: Vec<(String, f64)>,
+    /// Add the LOGO paper's behaviour and expert levels for the runs' environment
+    /// (LOGO-FACTS.md: Figure 1's dashed lines).
+    #[arg(long)]
+    paper_lines: bool,
+    /// The title (default: the runs' training environment).
+    #[arg(long)]
+    title: Option<String>,
+    /// Points on each curve's sample grid.
+    #[arg(long, default_value_t = 200)]
+    points: usize,
+}
+
+fn parse_hline(text: &str) -> Result<(String, f64), String> {
+    let (name, value) = text
+        .split_once('=')
+        .ok_or_else(|| format!("{text:?}: expected NAME=VALUE"))?;
+    let value: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| format!("{text:?}: {value:?} is not a number"))?;
+    if !value.is_finite() {
+        return Err(format!("{text:?}: the value must be finite"));
+    }
+    Ok((name.trim().to_string(), value))
+}
+
+/// One run's evaluations.
+#[derive(Debug, Clone)]
+pub struct Run {
+    pub group: String,
+    pub env: Option<String>,
+    /// (samples, dense evaluation return), in order, evaluated iterations only.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// One configuration's curve on its grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curve {
+    pub group: String,
+    pub samples: Vec<f64>,
+    pub mean: Vec<f64>,
+    pub std: Vec<f64>,
+    pub seeds: usize,
+}
+
+/// Every run under `paths` (see the module doc).
+pub fn discover(paths: &[PathBuf]) -> Result<Vec<Run>> {
+    let mut dirs = Vec::new();
+    for path in paths {
+        ensure!(path.is_dir(), "{}: not a folder", path.display());
+        collect_runs(path, 3, &mut dirs)?;
+    }
+    ensure!(
+        !dirs.is_empty(),
+        "no run (a folder with metrics.csv) in {}",
+        paths
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    dirs.iter().map(|d| read_run(d)).collect()
+}
+
+fn collect_runs(dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<()> {
+    if dir.join("metrics.csv").is_file() {
+        out.push(dir.to_path_buf());
+        return Ok(());
+    }
+    if depth == 0 {
+        return Ok(());
+    }
+    let mut children: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("{}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    children.sort();
+    for child in children {
+        collect_runs(&child, depth - 1, out)?;
+    }
+    Ok(())
+}
+
+fn read_run(dir: &Path) -> Result<Run> {
+    let path = dir.join("metrics.csv");
+    let mut reader =
+        csv::Reader::from_path(&path).with_context(|| format!("{}", path.display()))?;
+    let headers = reader
+        .headers()
+        .with_context(|| format!("{}", path.display()))?
+        .clone();
+    let column = |name: &str| {
+        headers
+            .iter()
+            .position(|h| h == name)
+            .with_context(|| format!("{}: no column {name:?}", path.display()))
+    };
+    let (samples_at, eval_at) = (column("samples")?, column("eval_dense_return")?);
+    let mut points = Vec::new();
+    for (line, record) in reader.records().enumerate() {
+        let record = record.with_context(|| format!("{}", path.display()))?;
+        let number = |at: usize| -> Result<f64> {
+            let field = record.get(at).unwrap_or("");
+            field.parse::<f64>().with_context(|| {
+                format!(
+                    "{}: row {}: {field:?} is not a number",
+                    path.display(),
+                    line + 1
+                )
+            })
+        };
+        let (samples, eval) = (number(samples_at)?, number(eval_at)?);
+        if eval.is_finite() {
+            points.push((samples, eval));
+        }
+    }
+    ensure!(
+        !points.is_empty(),
+        "{}: no evaluated iteration",
+        path.display()
+    );
+    let name = |p: &Path| {
+        p.file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let folder = name(dir);
+    let group = group_of(&folder, dir.parent().map(name));
+    let env = std::fs::read_to_string(dir.join("config.toml"))
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+        .and_then(|t| t.get("env").and_then(|e| e.as_str()).map(String::from));
+    Ok(Run { group, env, points })
+}
+
+/// A run's group: its parent's name for `seed<N>` (a sweep's layout), `<name>` for
+/// `<name>-seed<N>`, else the folder's own name.
+fn group_of(folder: &str, parent: Option<String>) -> String {
+    let is_seed = |s: &str| {
+        s.strip_prefix("seed")
+            .is_some_and(|n| n.parse::<u64>().is_ok())
+    };
+    if is_seed(folder)
+        && let Some(parent) = parent
+    {
+        return parent;
+    }
+    match folder.rsplit_once('-') {
+        Some((name, seed)) if is_seed(seed) => name.to_string(),
+        _ => folder.to_string(),
+    }
+}
+
+/// Centred moving average over `window` points (shrinking at the ends).
+fn smooth(values: &[f64], window: usize) -> Vec<f64> {
+    let half = window / 2;
+    (0..values.len())
+        .map(|i| {
+            let (lo, hi) = (i.saturating_sub(half), (i + half + 1).min(values.len()));
+            values[lo..hi].iter().sum::<f64>() / (hi - lo) as f64
+        })
+        .collect()
+}
+
+/// The value of the piecewise-linear curve through `points` at `x` (inside its range).
+fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
+    let i = points.partition_point(|p| p.0 < x);
+    if i == 0 {
+        return points[0].1;
+    }
+    if i == points.len() {
+        return points[i - 1].1;
+    }
+    let ((x0, y0), (x1, y1)) = (points[i - 1], points[i]);
+    if x1 == x0 {
+        y1
+    } else {
+        y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+    }
+}
+
+/// Each group's mean ± std (sample standard deviation; 0 for one seed) on `points`
+/// sample counts spread over the range all its runs cover.
+pub fn curves(runs: &[Run], window: usize, points: usize) -> Result<Vec<Curve>> {
+    ensure!(points >= 2, "--points must be at least 2");
+    ensure!(window >= 1, "--smooth must be at least 1");
+    let mut groups: BTreeMap<&str, Vec<Vec<(f64, f64)>>> = BTreeMap::new();
+    for run in runs {
+        let ys = smooth(&run.points.iter().map(|p| p.1).collect::<Vec<_>>(), window);
+        let curve = run.points.iter().map(|p| p.0).zip(ys).collect();
+        groups.entry(&run.group).or_default().push(curve);
+    }
+    let mut out = Vec::new();
+    for (group, members) in groups {
+        let start = members.iter().map(|c| c[0].0).fold(f64::MIN, f64::max);
+        let end = members
+            .iter()
+            .map(|c| c[c.len() - 1].0)
+            .fold(f64::MAX, f64::min);
+        if end < start {
+            bail!("group {group}: its runs' sample ranges do not overlap");
+        }
+        let samples: Vec<f64> = (0..points)
+            .map(|k| start + (end - start) * k as f64 / (points - 1) as f64)
+            .collect();
+        let n = members.len() as f64;
+        let (mut mean, mut std) = (Vec::new(), Vec::new());
+        for &x in &samples {
+            let ys: Vec<f64> = members.iter().map(|c| interpolate(c, x)).collect();
+            let m = ys.iter().sum::<f64>() / n;
+            let var = if members.len() > 1 {
+                ys.iter().map(|y| (y - m) * (y - m)).sum::<f64>() / (n - 1.0)
+            } else {
+                0.0
+            };
+            mean.push(m);
+            std.push(var.sqrt());
+        }
+        out.push(Curve {
+            group: group.to_string(),
+            samples,
+            mean,
+            std,
+            seeds: members.len(),
+        });
+    }
+    Ok(out)
+}
+
+/// The LOGO paper's behaviour and expert levels (LOGO-FACTS.md, Figure 1) by env.
+fn paper_lines(env: &str) -> Option<[(String, f64); 2]> {
+    let name = env.strip_prefix("Sparse").unwrap_or(env);
+    let (behaviour, expert) = match name.split('-').next()? {
+        "Hopper" => (1380.0, 3400.0),
+        "HalfCheetah" => (2650.0, 4500.0),
+        "Walker2d" => (2450.0, 4150.0),
+        "InvertedDoublePendulum" => (340.0, 9300.0),
+        _ => return None,
+    };
+    Some([
+        ("behaviour (LOGO paper)".into(), behaviour),
+        ("expert (LOGO paper)".into(), expert),
+    ])
+}
+
+pub fn run(args: &PlotArgs) -> Result<()> {
+    let runs = discover(&args.runs)?;
+    let curves = curves(&runs, args.smooth, args.points)?;
+    let mut envs: Vec<&str> = runs.iter().filter_map(|r| r.env.as_deref()).collect();
+    envs.sort_unstable();
+    envs.dedup();
+    let mut hlines = args.hlines.clone();
+    if args.paper_lines {
+        let env = envs
+            .first()
+            .context("--paper-lines: the runs name no env (config.toml)")?;
+        hlines.extend(
+            paper_lines(env)
+                .with_context(|| format!("--paper-lines: no paper levels for {env}"))?,
+        );
+    }
+    let title = args.title.clone().unwrap_or_else(|| envs.join(", "));
+    let csv_path = args.out.with_extension("csv");
+    write_csv(&csv_path, &curves)?;
+    match args.out.extension().and_then(|e| e.to_str()) {
+        Some("png") => draw(
+            BitMapBackend::new(&args.out, (960, 600)).into_drawing_area(),
+            &curves,
+            &hlines,
+            &title,
+        ),
+        Some("svg") => draw(
+            SVGBackend::new(&args.out, (960, 600)).into_drawing_area(),
+            &curves,
+            &hlines,
+            &title,
+        ),
+        _ => bail!(
+            "--out {}: the figure must end in .png or .svg",
+            args.out.display()
+        ),
+    }
+    .with_context(|| format!("drawing {}", args.out.display()))?;
+    println!(
+        "{}: {} curves from {} runs; data in {}",
+        args.out.display(),
+        curves.len(),
+        runs.len(),
+        csv_path.display()
+    );
+    for c in &curves {
+        let last = c.mean.len() - 1;
+        println!(
+            "  {:30} {} seeds, at {:.0} samples: {:.1} ± {:.1}",
+            c.group, c.seeds, c.samples[last], c.mean[last], c.std[last]
+        );
+    }
+    Ok(())
+}
+
+fn write_csv(path: &Path, curves: &[Curve]) -> Result<()> {
+    let mut w = csv::Writer::from_path(path).with_context(|| format!("{}", path.display()))?;
+    w.write_record(["config", "samples", "mean", "std", "seeds"])?;
+    for c in curves {
+        for k in 0..c.samples.len() {
+            w.write_record([
+                c.group.clone(),
+                format!("{}", c.samples[k]),
+                format!("{}", c.mean[k]),
+                format!("{}", c.std[k]),
+                c.seeds.to_string(),
+            ])?;
+        }
+    }
+    w.flush().with_context(|| format!("{}", path.display()))?;
+    Ok(())
+}
+
+/// Registers the embedded DejaVu Sans as the figure's font (no system font library).
+fn register_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+            .unwrap_or_else(|_| panic!("the embedded DejaVu Sans is a valid font"));
+    });
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    curves: &[Curve],
+    hlines: &[(String, f64)],
+    title: &str,
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    register_font();
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("{e:?}");
+    root.fill(&WHITE).map_err(err)?;
+    let x_max = curves
+        .iter()
+        .map(|c| *c.samples.last().expect("a curve has points"))
+        .fold(1.0, f64::max);
+    let ys = curves
+        .iter()
+        .flat_map(|c| c.mean.iter().zip(&c.std).flat_map(|(m, s)| [m - s, m + s]))
+        .chain(hlines.iter().map(|h| h.1));
+    let (y_min, y_max) = ys.fold((f64::MAX, f64::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
+    let pad = ((y_max - y_min) * 0.05).max(1.0);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 26))
+        .margin(16)
+        .x_label_area_size(48)
+        .y_label_area_size(72)
+        .build_cartesian_2d(0.0..x_max, (y_min - pad)..(y_max + pad))
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("samples")
+        .y_desc("dense evaluation return")
+        .x_label_formatter(&|x| format_samples(*x))
+        .y_label_formatter(&|y| format!("{y:.0}"))
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(err)?;
+    for (i, c) in curves.iter().enumerate() {
+        let color = Palette99::pick(i).to_rgba();
+        let band: Vec<(f64, f64)> = c
+            .samples
+            .iter()
+            .zip(c.mean.iter().zip(&c.std))
+            .map(|(x, (m, s))| (*x, m + s))
+            .chain(
+                c.samples
+                    .iter()
+                    .zip(c.mean.iter().zip(&c.std))
+                    .rev()
+                    .map(|(x, (m, s))| (*x, m - s)),
+            )
+            .collect();
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                band,
+                color.mix(0.18).filled(),
+            )))
+            .map_err(err)?;
+        chart
+            .draw_series(LineSeries::new(
+                c.samples.iter().copied().zip(c.mean.iter().copied()),
+                color.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(format!("{} (n = {})", c.group, c.seeds))
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
+    }
+    for (i, (name, value)) in hlines.iter().enumerate() {
+        let color = if i % 2 == 0 {
+            BLACK.mix(0.6)
+        } else {
+            RGBAColor(120, 60, 0, 0.8)
+        };
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(0.0, *value), (x_max, *value)],
+                8,
+                5,
+                color.stroke_width(1),
+            ))
+            .map_err(err)?
+            .label(format!("{name} = {value}"))
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(1)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font(("sans-serif", 15))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.3))
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// 1.5M, 200k, 900.
+fn format_samples(x: f64) -> String {
+    if x >= 1e6 {
+        format!("{}M", trim(x / 1e6))
+    } else if x >= 1e3 {
+        format!("{}k", trim(x / 1e3))
+    } else {
+        format!("{x:.0}")
+    }
+}
+
+fn trim(v: f64) -> String {
+    let s = format!("{v:.2}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(group: &str, points: &[(f64, f64)]) -> Run {
+        Run {
+            group: group.into(),
+            env: None,
+            points: points.to_vec(),
+        }
+    }
+
+    #[test]
+    fn curves_average_seeds_on_a_shared_grid() {
+        let runs = [
+            run("a", &[(0.0, 0.0), (10.0, 10.0), (20.0, 20.0)]),
+            run("a", &[(2.0, 4.0), (12.0, 14.0), (18.0, 20.0)]),
+            run("b", &[(0.0, 5.0), (30.0, 5.0)]),
+        ];
+        let c = curves(&runs, 1, 5).unwrap();
+        assert_eq!(c.len(), 2);
+        let a = &c[0];
+        assert_eq!((a.group.as_str(), a.seeds), ("a", 2));
+        // The range both seeds cover: 2..18.
+        assert_eq!(a.samples, vec![2.0, 6.0, 10.0, 14.0, 18.0]);
+        // Seed 0 is y = x; seed 1 is y = x + 2 on this range: mean x + 1, std √2.
+        for (x, (m, s)) in a.samples.iter().zip(a.mean.iter().zip(&a.std)) {
+            assert!((m - (x + 1.0)).abs() < 1e-12, "{x}: {m}");
+            assert!((s - 2f64.sqrt()).abs() < 1e-12, "{x}: {s}");
+        }
+        assert_eq!(c[1].mean, vec![5.0; 5]);
+        assert_eq!(c[1].std, vec![0.0; 5]);
+    }
+
+    #[test]
+    fn runs_group_by_sweep_and_script_layouts() {
+        assert_eq!(group_of("seed3", Some("logo-hopper".into())), "logo-hopper");
+        assert_eq!(group_of("logo-seed0", Some("idp".into())), "logo");
+        assert_eq!(
+            group_of("hopper-logo-s0", Some("runs".into())),
+            "hopper-logo-s0"
+        );
+        assert_eq!(group_of("seedling", Some("x".into())), "seedling");
+    }
+
+    #[test]
+    fn smoothing_is_a_centred_moving_average() {
+        assert_eq!(smooth(&[0.0, 3.0, 6.0, 9.0], 3), vec![1.5, 3.0, 6.0, 7.5]);
+        assert_eq!(smooth(&[1.0, 2.0], 1), vec![1.0, 2.0]);
+    }
+
+    #[test]
+    fn hlines_parse_and_samples_format() {
+        assert_eq!(
+            parse_hline("expert=3400").unwrap(),
+            ("expert".into(), 3400.0)
+        );
+        assert!(parse_hline("3400").is_err());
+        assert!(parse_hline("x=nan").is_err());
+        assert_eq!(format_samples(1_500_000.0), "1.5M");
+        assert_eq!(format_samples(200_000.0), "200k");
+        assert_eq!(format_samples(900.0), "900");
+    }
+}

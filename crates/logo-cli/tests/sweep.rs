@@ -1,0 +1,176 @@
+//! `logo sweep` (locally) and `logo plot` as a user runs them: two configs × two seeds,
+//! re-run to skip and to resume, a failing run reported with its log while the others
+//! finish, and the figure with its CSV checked against the runs' own metrics.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn logo(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_logo"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("logo-sweep-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn tiny(dir: &Path, name: &str, extra: &str) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &path,
+        format!(
+            "env = \"SparseInvertedDoublePendulum-v4\"\niterations = 2\nsamples_per_iter = 300\n\
+             policy_hidden = [16, 16]\neval_steps = 100\n{extra}\n[critic]\nhidden = [16, 16]\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+fn rows(run: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(run.join("metrics.csv")).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect()
+}
+
+#[test]
+fn a_sweep_skips_resumes_reports_failures_and_plots() {
+    let dir = scratch("sweep");
+    let a = tiny(&dir, "a", "");
+    let b = tiny(&dir, "b", "max_kl = 0.05");
+    let out = dir.join("out");
+    let sweep = |configs: &[&Path], extra: &[&str]| {
+        let mut args: Vec<String> = vec!["sweep".into()];
+        args.extend(configs.iter().map(|c| c.display().to_string()));
+        args.extend(["--seeds", "0..2", "--jobs", "2", "--out"].map(String::from));
+        args.push(out.display().to_string());
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        logo(&args)
+    };
+    let first = sweep(&[&a, &b], &[]);
+    let stdout = String::from_utf8_lossy(&first.stdout);
+    assert!(
+        first.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    assert!(
+        stdout.contains("4 finished, 0 already done, 0 failed"),
+        "{stdout}"
+    );
+    for name in ["a", "b"] {
+        for seed in 0..2 {
+            let run = out.join(name).join(format!("seed{seed}"));
+            assert_eq!(rows(&run).len(), 2, "{}", run.display());
+            let config = std::fs::read_to_string(run.join("config.toml")).unwrap();
+            assert!(config.contains(&format!("seed = {seed}")), "{config}");
+        }
+    }
+    // Again: nothing to do. Longer: each run resumes from its checkpoint.
+    let again = sweep(&[&a, &b], &[]);
+    assert!(String::from_utf8_lossy(&again.stdout).contains("0 finished, 4 already done"));
+    let longer = sweep(&[&a], &["--iterations", "3"]);
+    assert!(String::from_utf8_lossy(&longer.stdout).contains("2 finished"));
+    let run = out.join("a").join("seed0");
+    assert_eq!(rows(&run).len(), 3);
+    let log = std::fs::read_to_string(run.join("train.log")).unwrap();
+    assert!(log.contains("resuming"), "{log}");
+
+    // A run that fails (its eval env does not fit) is reported with its log; the other
+    // config's runs still run, and the sweep exits non-zero.
+    let bad = tiny(&dir, "bad", "eval_env = \"Hopper-v4\"");
+    let c = tiny(&dir, "c", "");
+    let mixed = sweep(&[&bad, &c], &[]);
+    let text = String::from_utf8_lossy(&mixed.stdout).into_owned()
+        + &String::from_utf8_lossy(&mixed.stderr);
+    assert!(!mixed.status.success(), "{text}");
+    assert!(
+        text.contains("2 finished, 0 already done, 2 failed"),
+        "{text}"
+    );
+    assert!(
+        text.contains(&out.join("bad/seed0/train.log").display().to_string()),
+        "{text}"
+    );
+    assert_eq!(rows(&out.join("c").join("seed1")).len(), 2);
+
+    // The figure and its data: with a 2-point grid, the CSV holds each config's mean and
+    // std over its seeds at the start and the end of the range both seeds cover.
+    let figure = dir.join("fig.png");
+    let plot = logo(&[
+        "plot",
+        out.join("a").to_str().unwrap(),
+        out.join("b").to_str().unwrap(),
+        "--out",
+        figure.to_str().unwrap(),
+        "--points",
+        "2",
+        "--paper-lines",
+    ]);
+    assert!(
+        plot.status.success(),
+        "{}",
+        String::from_utf8_lossy(&plot.stderr)
+    );
+    let png = std::fs::read(&figure).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    assert!(png.len() > 10_000, "a drawn figure, not an empty one");
+    let csv = std::fs::read_to_string(dir.join("fig.csv")).unwrap();
+    let data: Vec<Vec<String>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    assert_eq!(data.len(), 4, "{csv}");
+    for (name, runs) in [("b", 2)] {
+        let seeds: Vec<Vec<Vec<String>>> = (0..runs)
+            .map(|s| rows(&out.join(name).join(format!("seed{s}"))))
+            .collect();
+        let col = |r: &Vec<String>, i: usize| r[i].parse::<f64>().unwrap();
+        // Both runs' first evaluation is at their first iteration; the grid starts at
+        // the later of the two first sample counts.
+        let firsts: Vec<(f64, f64)> = seeds
+            .iter()
+            .map(|s| (col(&s[0], 1), col(&s[0], 6)))
+            .collect();
+        let lasts: Vec<(f64, f64)> = seeds
+            .iter()
+            .map(|s| (col(&s[1], 1), col(&s[1], 6)))
+            .collect();
+        let start = firsts[0].0.max(firsts[1].0);
+        let end = lasts[0].0.min(lasts[1].0);
+        let line = |samples: f64| {
+            data.iter()
+                .find(|r| r[0] == name && (r[1].parse::<f64>().unwrap() - samples).abs() < 1e-6)
+                .unwrap_or_else(|| panic!("{name} at {samples}: {csv}"))
+        };
+        // Linear interpolation of each seed at the grid's ends, then mean and std.
+        let at = |s: usize, x: f64| {
+            let (x0, y0, x1, y1) = (firsts[s].0, firsts[s].1, lasts[s].0, lasts[s].1);
+            y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+        };
+        for x in [start, end] {
+            let (y0, y1) = (at(0, x), at(1, x));
+            let mean = (y0 + y1) / 2.0;
+            let std = ((y0 - mean).powi(2) + (y1 - mean).powi(2)).sqrt();
+            let r = line(x);
+            assert!(
+                (r[2].parse::<f64>().unwrap() - mean).abs() < 1e-9,
+                "{name} mean at {x}: {r:?} vs {mean}"
+            );
+            assert!(
+                (r[3].parse::<f64>().unwrap() - std).abs() < 1e-9,
+                "{name} std at {x}: {r:?} vs {std}"
+            );
+            assert_eq!(r[4], "2");
+        }
+    }
+}
