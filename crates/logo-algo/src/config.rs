@@ -141,13 +141,14 @@ impl TrainConfig {
         let mut config: TrainConfig =
             toml::from_str(&text).map_err(|e| err(e.to_string().trim_end().replace('\n', " ")))?;
         let base = path.parent().unwrap_or(Path::new("."));
-        // Absolute, so that the copy saved with a run (config.toml, the checkpoint's
-        // metadata) still points at the same files when the run is resumed.
+        // Absolute (and without `..` where the file exists), so that the copy saved with a
+        // run (config.toml, the checkpoint's metadata) still points at the same files when
+        // the run is resumed.
         let resolve = |p: &mut PathBuf| {
-            if p.is_relative() {
-                let joined = base.join(&*p);
-                *p = std::path::absolute(&joined).unwrap_or(joined);
-            }
+            let joined = base.join(&*p);
+            *p = std::fs::canonicalize(&joined)
+                .or_else(|_| std::path::absolute(&joined))
+                .unwrap_or(joined);
         };
         if let Some(p) = config.init_policy.as_mut() {
             resolve(p);

@@ -1,4 +1,5 @@
-//! Every config under configs/ loads, names a real env, and its demonstrations fit it.
+//! Every config under configs/ loads, names a real env, and its demonstrations fit it;
+//! the algorithm folders hold the four sparse envs each and differ only in their kinds.
 
 use std::path::Path;
 
@@ -6,12 +7,31 @@ use logo_algo::TrainConfig;
 use logo_data::Demonstrations;
 use logo_envs::{EnvFactory, EnvOptions};
 
+const ALGORITHMS: [&str; 8] = [
+    "logo",
+    "logo-ppo",
+    "logo-cdq",
+    "logo-ppo-cdq",
+    "logo-ppo-penalty",
+    "logo-clip-in-trpo",
+    "ppo",
+    "trpo",
+];
+const ENVS: [&str; 4] = [
+    "hopper",
+    "walker2d",
+    "halfcheetah",
+    "inverted_double_pendulum",
+];
+
 #[test]
 fn every_shipped_config_loads_and_its_demos_fit_the_env() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut checked = 0;
-    for algo in ["logo", "trpo", "behaviour"] {
-        for entry in std::fs::read_dir(root.join("configs").join(algo)).unwrap() {
+    for entry in std::fs::read_dir(root.join("configs")).unwrap() {
+        let folder = entry.unwrap().path();
+        let algo = folder.file_name().unwrap().to_string_lossy().into_owned();
+        for entry in std::fs::read_dir(&folder).unwrap() {
             let path = entry.unwrap().path();
             let config = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let spec = EnvFactory::new(&config.env, &EnvOptions::default())
@@ -19,12 +39,14 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
                 .spec()
                 .clone();
             EnvFactory::new(&config.eval_env_id(), &EnvOptions::default()).unwrap();
-            assert_eq!(
-                config.guidance.is_some(),
-                algo == "logo",
-                "{}",
-                path.display()
-            );
+            if algo != "experiments" && algo != "behaviour" {
+                assert_eq!(
+                    config.guidance.is_some(),
+                    algo.starts_with("logo"),
+                    "{}",
+                    path.display()
+                );
+            }
             if let Some(demos) = config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
                 let d = Demonstrations::load(demos, spec.obs_dim, spec.act_dim)
                     .unwrap_or_else(|e| panic!("{e}"));
@@ -33,8 +55,30 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
             checked += 1;
         }
     }
-    assert_eq!(
-        checked, 10,
-        "four tasks, LOGO and TRPO; the Hopper behaviour pipeline and LOGO from its set"
-    );
+    assert!(checked >= ALGORITHMS.len() * ENVS.len() + 2, "{checked}");
+}
+
+/// The variants of one env differ from `configs/logo/<env>.toml` in their policy-update
+/// and critic kinds only (and, for PPO and TRPO alone, in having no guidance).
+#[test]
+fn variants_are_configurations_of_the_same_run() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+    for env in ENVS {
+        let logo = TrainConfig::load(&root.join("logo").join(format!("{env}.toml"))).unwrap();
+        for algo in ALGORITHMS {
+            let path = root.join(algo).join(format!("{env}.toml"));
+            let mut config = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            config.improvement = logo.improvement.clone();
+            config.critic = logo.critic.clone();
+            match (&mut config.guidance, &logo.guidance) {
+                (Some(g), Some(l)) => {
+                    g.update = l.update.clone();
+                    g.critic = l.critic.clone();
+                }
+                (None, _) => config.guidance = logo.guidance.clone(),
+                _ => panic!("{}: guidance where LOGO's has none", path.display()),
+            }
+            assert_eq!(config, logo, "{} differs beyond its kinds", path.display());
+        }
+    }
 }
