@@ -23,3 +23,17 @@ echo "== parity fixtures vs the Gymnasium 1.4.0 oracle"
 
 echo "== cargo test --release --workspace"
 cargo test --release --workspace "$@"
+
+# burn's wgpu backend, on Mesa's lavapipe (Vulkan on the CPU) where there is no GPU: the
+# feature is a separate build of logo-cli and the crates it passes the feature to.
+if ! ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    echo "== installing mesa-vulkan-drivers (lavapipe) for the wgpu tests"
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -q mesa-vulkan-drivers libvulkan1 >/dev/null \
+      || { apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q mesa-vulkan-drivers libvulkan1 >/dev/null; }
+  fi
+fi
+[ "${CI:-}" = true ] && export LOGO_REQUIRE_WGPU=1
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
+echo "== cargo test --release -p logo-cli --features wgpu --test wgpu"
+cargo test --release -p logo-cli --features wgpu --test wgpu "$@"

@@ -5,8 +5,8 @@
 //! choice (`[critic.fit] method = "lbfgs" | "adam"`).
 
 use burn::tensor::Tensor;
-use logo_nn::flat::{dot, to_f64};
-use logo_nn::loss::{mse, scalar, value_and_grad};
+use logo_nn::flat::dot;
+use logo_nn::loss::{mse, value_and_grad};
 use logo_nn::{Engine, ValueNet, ValueNetConfig};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -213,14 +213,14 @@ impl<E: Engine> CriticSet<E> {
     pub fn values(&self, engine: &E, obs: &E::Rows) -> Vec<f64> {
         self.nets
             .iter()
-            .map(|net| to_f64(engine.forward(net, obs)))
+            .map(|net| engine.download(engine.forward(net, obs)))
             .reduce(|a, b| a.iter().zip(&b).map(|(x, y)| x.min(*y)).collect())
             .expect("a critic has at least one net")
     }
 
     /// Fits every net to `returns` (`[rows]`); the mean of their final losses.
     pub fn fit(&mut self, engine: &E, obs: &E::Rows, returns: &[f64], rng: &mut ChaCha8Rng) -> f64 {
-        let targets = logo_nn::engine::tensor(engine, returns, [returns.len(), 1]);
+        let targets = engine.upload(returns, [returns.len(), 1]);
         let mut total = 0.0;
         for (net, adam) in self.nets.iter_mut().zip(&mut self.adam) {
             let theta0 = engine.params(net);
@@ -260,7 +260,12 @@ impl<E: Engine> CriticSet<E> {
                 }
             };
             *net = engine.net(&self.dims, &theta);
-            total += loss;
+            // A non-finite parameter reports as a non-finite loss (the trainer stops on it).
+            total += if theta.iter().all(|v| v.is_finite()) {
+                loss
+            } else {
+                f64::NAN
+            };
         }
         total / self.nets.len() as f64
     }
@@ -310,7 +315,7 @@ impl<'a, E: Engine> ValueObjective<'a, E> {
     pub fn value(&self, theta: &[f64]) -> f64 {
         let net = self.engine.net(self.dims, theta);
         let values = self.engine.forward(&net, self.obs);
-        scalar(mse(values, self.targets.clone())) + self.l2 * dot(theta, theta)
+        self.engine.download(mse(values, self.targets.clone()))[0] + self.l2 * dot(theta, theta)
     }
 }
 
@@ -321,6 +326,7 @@ impl<E: Engine> lbfgs::Objective for ValueObjective<'_, E> {
         let targets = burn::tensor::Tensor::from_inner(self.targets.clone());
         let (mse_value, d_values) =
             value_and_grad(self.engine.output(&trace), |values| mse(values, targets));
+        let mse_value = self.engine.download(mse_value)[0];
         self.last = Some(Evaluated {
             theta: theta.to_vec(),
             net,

@@ -4,7 +4,7 @@ use std::collections::VecDeque;
 
 use burn::tensor::Tensor;
 use logo_data::Demonstrations;
-use logo_nn::flat::{params_to_vec, to_f64, vec_to_params};
+use logo_nn::flat::{params_to_vec, vec_to_params};
 use logo_nn::loss::{binary_cross_entropy, guidance_reward, value_and_grad};
 use logo_nn::{Discriminator, Engine, Policy};
 use serde::{Deserialize, Serialize};
@@ -123,7 +123,7 @@ impl<E: Engine> DiscriminatorTrainer<E> {
 
     /// r_C = −log D(s, a) for each pair (higher where the pair looks like the demos).
     pub fn rewards(&self, engine: &E, inputs: &E::Rows) -> Vec<f64> {
-        to_f64(guidance_reward(logits(engine.forward(&self.net, inputs))))
+        engine.download(guidance_reward(logits(engine.forward(&self.net, inputs))))
     }
 
     /// One Adam step on the BCE loss; returns the loss before the step.
@@ -135,14 +135,19 @@ impl<E: Engine> DiscriminatorTrainer<E> {
             let (loss, d_logits) = value_and_grad(engine.output(&trace), |out| {
                 binary_cross_entropy(logits(out), label_one)
             });
-            value += loss;
+            value += engine.download(loss)[0];
             let part = engine.vjp(&self.net, &trace, d_logits);
             grad.iter_mut().zip(part).for_each(|(g, d)| *g += d);
         }
         let mut theta = engine.params(&self.net);
         self.optim.step(&mut theta, &grad, self.lr);
         self.net = engine.net(&self.dims, &theta);
-        value
+        // A non-finite parameter reports as a non-finite loss (the trainer stops on it).
+        if theta.iter().all(|v| v.is_finite()) {
+            value
+        } else {
+            f64::NAN
+        }
     }
 }
 
@@ -159,7 +164,7 @@ pub fn behaviour_rewards<E: Engine>(
     actions: &Tensor<E::B, 2>,
     logp_k: &Tensor<E::B, 1>,
 ) -> Vec<f64> {
-    to_f64(behaviour.log_prob(engine, obs, actions) - logp_k.clone())
+    engine.download(behaviour.log_prob(engine, obs, actions) - logp_k.clone())
 }
 
 #[cfg(test)]

@@ -27,4 +27,4 @@ pub mod trainer;
 
 pub use config::{ConfigError, TrainConfig};
 pub use metrics::IterationMetrics;
-pub use trainer::Trainer;
+pub use trainer::{EngineSpan, Trainer, engine_history};

@@ -21,7 +21,6 @@ use std::time::Instant;
 
 use logo_data::Demonstrations;
 use logo_envs::{Env, EnvFactory, EnvOptions, ResetPoint, RngState, VecEnv};
-use logo_nn::engine::tensor;
 use logo_nn::flat::params_to_vec;
 use logo_nn::{
     Checkpoint, CheckpointMeta, Cpu, Discriminator, DiscriminatorConfig, Engine, GaussianPolicy,
@@ -88,6 +87,44 @@ pub struct Trainer<E: Engine> {
     started: Instant,
     /// Wall seconds of the iterations before a resume.
     wall_offset: f64,
+    /// Which engine ran which iterations, written into every checkpoint's metadata.
+    engines: Vec<EngineSpan>,
+    /// The iteration count of the last checkpoint written (or resumed from).
+    saved_at: Option<usize>,
+}
+
+/// Stops the run when a step left a non-finite number behind.
+fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(format!("{step} produced a non-finite number (NaN or ±inf) in the {what}").into())
+    }
+}
+
+/// From `from_iteration` on (until the next span), the run trained on `engine`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EngineSpan {
+    pub from_iteration: usize,
+    pub engine: String,
+}
+
+/// The engine spans recorded in a checkpoint's metadata (older checkpoints name one
+/// engine, or none).
+pub fn engine_history(meta: &logo_nn::CheckpointMeta) -> Vec<EngineSpan> {
+    let extra = &meta.extra;
+    if let Ok(spans) = serde_json::from_value::<Vec<EngineSpan>>(extra["engines"].clone()) {
+        return spans;
+    }
+    extra["engine"]
+        .as_str()
+        .map(|engine| {
+            vec![EngineSpan {
+                from_iteration: 0,
+                engine: engine.to_string(),
+            }]
+        })
+        .unwrap_or_default()
 }
 
 /// What a checkpoint holds besides the networks, for `--resume`.
@@ -311,6 +348,17 @@ impl<E: Engine> Trainer<E> {
         t.venv.restore_reset_points(&state.env_points)?;
         t.iteration = state.iteration;
         t.samples = state.samples;
+        // A checkpoint from any engine or float type continues on this one.
+        let mut engines = engine_history(&ckpt.meta);
+        let now = t.engine.describe();
+        if engines.last().map(|span| &span.engine) != Some(&now) {
+            engines.push(EngineSpan {
+                from_iteration: state.iteration,
+                engine: now,
+            });
+        }
+        t.engines = engines;
+        t.saved_at = Some(state.iteration);
         // metrics.csv: keep the rows up to the checkpoint, continue its clock.
         let kept = t.run.keep_metrics_before(state.iteration)?;
         t.wall_offset = kept.last().map_or(0.0, |row| row.wall_s);
@@ -368,6 +416,7 @@ impl<E: Engine> Trainer<E> {
                 })
             }
         };
+        let engine_name = engine.describe();
         Ok(Self {
             rng: ChaCha8Rng::seed_from_u64(config.seed),
             sampler: Sampler::new(config.rollout, config.num_envs),
@@ -385,6 +434,11 @@ impl<E: Engine> Trainer<E> {
             samples: 0,
             started: Instant::now(),
             wall_offset: 0.0,
+            engines: vec![EngineSpan {
+                from_iteration: 0,
+                engine: engine_name,
+            }],
+            saved_at: None,
         })
     }
 
@@ -427,7 +481,7 @@ impl<E: Engine> Trainer<E> {
             config.samples_per_iter,
         )?;
         let obs = engine.rows(&batch.obs, batch.obs_dim);
-        let actions = tensor(engine, &batch.actions, [batch.len(), batch.act_dim]);
+        let actions = engine.upload(&batch.actions, [batch.len(), batch.act_dim]);
         let logp_k = self.policy.log_prob(engine, &obs, &actions);
         row.t_sampling = clock.lap();
 
@@ -470,7 +524,7 @@ impl<E: Engine> Trainer<E> {
         }
         row.t_advantages = clock.lap();
         let data = StepBatch {
-            advantages: tensor(engine, &env.normalised, [batch.len()]),
+            advantages: engine.upload(&env.normalised, [batch.len()]),
             obs: obs.clone(),
             actions,
             logp_old: logp_k,
@@ -510,6 +564,11 @@ impl<E: Engine> Trainer<E> {
                     &mut update_rng(config.seed, k, 0),
                 );
                 *policy = next;
+                finite(
+                    stats.is_finite() && policy.is_finite(engine),
+                    "the improvement step",
+                    "policy's parameters or outputs",
+                )?;
                 row.improvement(&stats);
                 row.t_policy_step = clock.lap();
 
@@ -517,7 +576,7 @@ impl<E: Engine> Trainer<E> {
                 //    ratio against π_k.
                 let mut guidance_stats = None;
                 if let (Some(g), Some(adv)) = (guidance.as_mut(), &guidance_advantages) {
-                    let advantages = tensor(engine, &adv.normalised, [data.rows]);
+                    let advantages = engine.upload(&adv.normalised, [data.rows]);
                     let (next, stats) = g.update.update(
                         engine,
                         policy,
@@ -527,6 +586,11 @@ impl<E: Engine> Trainer<E> {
                         &mut update_rng(config.seed, k, 1),
                     );
                     *policy = next;
+                    finite(
+                        stats.is_finite() && policy.is_finite(engine),
+                        "the guidance step",
+                        "policy's parameters or outputs",
+                    )?;
                     guidance_stats = Some(stats);
                 }
                 row.guidance(guidance_stats.as_ref());
@@ -538,6 +602,11 @@ impl<E: Engine> Trainer<E> {
                     && let GuidanceSignal::Discriminator(d) = &mut g.signal
                 {
                     row.disc_loss = d.update(engine, inputs);
+                    finite(
+                        row.disc_loss.is_finite(),
+                        "the discriminator update",
+                        "discriminator's parameters or loss",
+                    )?;
                 }
                 row.t_discriminator = clock.lap();
 
@@ -551,7 +620,34 @@ impl<E: Engine> Trainer<E> {
                 Ok(row)
             },
         );
-        let steps = stepped?;
+        // A non-finite number stops the run before anything is written: metrics.csv and
+        // the checkpoint stay as the last good iteration left them.
+        let stop = |e: TrainError| -> TrainError {
+            let kept = match self.saved_at {
+                Some(at) => format!("the checkpoint of iteration {at} is kept"),
+                None => "no checkpoint had been written yet".to_string(),
+            };
+            format!(
+                "iteration {k}: {e}; the run stopped ({kept} in {})",
+                self.run.path().display()
+            )
+            .into()
+        };
+        let steps = stepped.map_err(stop)?;
+        finite(
+            critic_loss.is_finite(),
+            "the critic fit",
+            "env critic's parameters or loss",
+        )
+        .map_err(stop)?;
+        if guidance_advantages.is_some() {
+            finite(
+                guidance_critic_loss.is_finite(),
+                "the critic fit",
+                "guidance critic's parameters or loss",
+            )
+            .map_err(stop)?;
+        }
         row = IterationMetrics {
             iteration: k,
             samples: self.samples,
@@ -571,6 +667,7 @@ impl<E: Engine> Trainer<E> {
         self.run.append(&row)?;
         if self.iteration.is_multiple_of(self.config.checkpoint_every) || self.done() {
             self.save_checkpoint(&self.run.checkpoint_path())?;
+            self.saved_at = Some(self.iteration);
         }
         Ok(row)
     }
@@ -623,6 +720,7 @@ impl<E: Engine> Trainer<E> {
         meta.extra = serde_json::json!({
             "samples": self.samples,
             "engine": engine.describe(),
+            "engines": self.engines,
             "config": self.config,
             "resume": resume,
         });

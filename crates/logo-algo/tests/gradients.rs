@@ -7,7 +7,6 @@ use burn::tensor::Tensor;
 use logo_algo::critic::ValueObjective;
 use logo_algo::lbfgs::Objective;
 use logo_algo::policy_update::objective::{StepBatch, Surrogate, anchor, evaluate, gradient};
-use logo_nn::engine::tensor;
 use logo_nn::flat::{from_f64, grads_to_vec, params_to_vec, vec_to_params};
 use logo_nn::loss::{clipped_surrogate, gaussian_kl, gaussian_log_prob, ratio, ratio_surrogate};
 use logo_nn::{
@@ -125,9 +124,9 @@ fn engine_surrogate<E: Engine>(engine: &E, case: &Case, kind: Surrogate) -> (f64
     let start = Policy::from_module(engine, &case.start.valid());
     let batch = StepBatch {
         obs: engine.rows(&case.obs, 3),
-        actions: tensor(engine, &case.actions, [n, 2]),
-        logp_old: tensor(engine, &case.logp_old, [n]),
-        advantages: tensor(engine, &case.advantages, [n]),
+        actions: engine.upload(&case.actions, [n, 2]),
+        logp_old: engine.upload(&case.logp_old, [n]),
+        advantages: engine.upload(&case.advantages, [n]),
         rows: n,
     };
     let start_anchor = anchor(engine, &start, &engine.trace(&start.mean, &batch.obs));
@@ -201,7 +200,7 @@ fn the_critic_loss_and_gradient_match_autodiff_on_both_engines() {
     ) -> (f64, Vec<f64>) {
         let dims = [4, 6, 5, 1];
         let rows = engine.rows(obs, 4);
-        let targets: Tensor<E::B, 2> = tensor(engine, target, [target.len(), 1]);
+        let targets: Tensor<E::B, 2> = engine.upload(target, [target.len(), 1]);
         let mut objective = ValueObjective::new(engine, &dims, &rows, &targets, l2);
         let loss = objective.loss(theta);
         assert!((objective.value(theta) - loss).abs() < 1e-13 * loss);

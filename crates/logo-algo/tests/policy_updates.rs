@@ -8,7 +8,6 @@ use logo_algo::policy_update::{
     PolicyUpdateConfig, PpoClipConfig, PpoPenaltyConfig, StopReason, TrpoConfig, UpdateState,
     fisher_rows,
 };
-use logo_nn::engine::tensor;
 use logo_nn::flat::{from_f64, to_f64, vec_to_params};
 use logo_nn::loss::{clipped_surrogate, value_and_grad};
 use logo_nn::{Cpu, Engine, Kernels, Policy, PolicyConfig, ValueNetConfig};
@@ -36,6 +35,7 @@ fn the_clipped_surrogate_and_its_gradient_match_hand_computation() {
     let (value, grad) = value_and_grad(from_f64::<Cpu, 1>(&r, [n], &device), |r| {
         clipped_surrogate(r, Tensor::from_inner(adv.clone()), 0.2)
     });
+    let value = to_f64(value)[0];
     let want_value: f64 = rows.iter().map(|x| x.2).sum::<f64>() / n as f64;
     assert!(
         (value - want_value).abs() < 1e-15,
@@ -79,14 +79,14 @@ fn problem(rows: usize) -> (Kernels, Policy<Kernels>, StepBatch<Kernels>) {
     let obs_rows = engine.rows(&obs, 4);
     let acting = policy.acting(&engine);
     let actions = acting.sample(&obs, &mut rng);
-    let actions = tensor(&engine, &actions, [rows, 2]);
+    let actions = engine.upload(&actions, [rows, 2]);
     let logp_old = policy.log_prob(&engine, &obs_rows, &actions);
     let advantages: Vec<f64> = (0..rows).map(|_| rng.random_range(-1.0..1.0)).collect();
     let batch = StepBatch {
         obs: obs_rows,
         actions,
         logp_old,
-        advantages: tensor(&engine, &advantages, [rows]),
+        advantages: engine.upload(&advantages, [rows]),
         rows,
     };
     (engine, policy, batch)

@@ -117,3 +117,30 @@ fn a_steps_mode_run_says_it_cannot_be_resumed() {
         .to_string();
     assert!(err.contains("cannot be resumed"), "{err}");
 }
+
+#[test]
+fn a_non_finite_update_stops_the_run_and_keeps_the_last_checkpoint() {
+    let dir = scratch("non-finite");
+    let mut trainer = Trainer::new(Kernels, config(&dir, true), &dir).unwrap();
+    trainer.step().unwrap();
+    trainer.step().unwrap(); // checkpoint_every = 2: written here
+    let checkpoint = std::fs::read(dir.join("checkpoint.safetensors")).unwrap();
+    let rows = metrics(&dir);
+    // Adam's steps are ≈ the learning rate whatever the gradient: 1e300 overflows.
+    trainer.config.improvement = serde_json::from_value(serde_json::json!({
+        "kind": "ppo-clip",
+        "learning_rate": 1e300,
+    }))
+    .unwrap();
+    let err = trainer.step().unwrap_err().to_string();
+    assert!(
+        err.starts_with("iteration 2: the improvement step produced a non-finite number")
+            && err.contains("the checkpoint of iteration 2 is kept"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read(dir.join("checkpoint.safetensors")).unwrap(),
+        checkpoint
+    );
+    assert_eq!(metrics(&dir), rows);
+}

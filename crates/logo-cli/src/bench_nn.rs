@@ -13,7 +13,6 @@ use std::time::Instant;
 
 use anyhow::Result;
 use clap::Args;
-use logo_nn::engine::tensor;
 use logo_nn::loss::{gaussian_log_prob, mse, value_and_grad, value_and_grad2};
 use logo_nn::{Cpu, Engine, FisherKind, FisherOperator, Policy, PolicyConfig, ValueNetConfig};
 use serde::Serialize;
@@ -196,8 +195,7 @@ impl WithEngine for Bench<'_> {
             (0..n).map(|k| ((k as f64) * scale).sin()).collect()
         };
         let obs = engine.rows(&values(args.batch * args.obs_dim, 0.37), args.obs_dim);
-        let actions = tensor(
-            &engine,
+        let actions = engine.upload(
             &values(args.batch * args.act_dim, 0.11),
             [args.batch, args.act_dim],
         );
@@ -247,7 +245,7 @@ impl WithEngine for Bench<'_> {
         let critic = critic_config.init::<Cpu>(&Default::default());
         let dims = critic.net.dims();
         let net = engine.net(&dims, &logo_nn::flat::params_to_vec(&critic));
-        let targets = tensor(&engine, &values(args.batch, 0.3), [args.batch, 1]);
+        let targets = engine.upload(&values(args.batch, 0.3), [args.batch, 1]);
         let critic_ms = median(
             (0..args.repeats)
                 .map(|_| {

@@ -89,9 +89,7 @@ impl EngineArgs {
             self.dtype,
         ) {
             (EngineKind::Kernels, _, Dtype::F64) => command.run(Kernels),
-            (EngineKind::Kernels, _, Dtype::F32) => {
-                bail!("the kernels engine computes in f64; for f32 use --engine burn")
-            }
+            (EngineKind::Kernels, _, Dtype::F32) => command.run(Kernels::<f32>::default()),
             (EngineKind::Burn, BackendKind::Ndarray, Dtype::F64) => {
                 command.run(BurnEngine::<logo_nn::Cpu>::new(
                     Default::default(),
@@ -104,16 +102,31 @@ impl EngineArgs {
                     "ndarray f32",
                 ))
             }
-            (EngineKind::Burn, BackendKind::Wgpu, _) => {
-                bail!(
-                    "this logo was built without burn's wgpu backend: build it with `cargo build --release -p logo-cli --features wgpu`"
-                )
+            (EngineKind::Burn, BackendKind::Wgpu | BackendKind::Cuda, Dtype::F64) => {
+                bail!("the GPU backends compute in float32 (WGSL has no float64): add --dtype f32")
             }
-            (EngineKind::Burn, BackendKind::Cuda, _) => {
-                bail!(
-                    "this logo was built without burn's CUDA backend: build it with `cargo build --release -p logo-cli --features cuda` (its build downloads an LLVM toolchain)"
-                )
+            #[cfg(feature = "wgpu")]
+            (EngineKind::Burn, BackendKind::Wgpu, Dtype::F32) => {
+                command.run(BurnEngine::<logo_nn::burn::backend::Wgpu>::new(
+                    Default::default(),
+                    "wgpu f32",
+                ))
             }
+            #[cfg(not(feature = "wgpu"))]
+            (EngineKind::Burn, BackendKind::Wgpu, Dtype::F32) => bail!(
+                "this logo was built without burn's wgpu backend: build it with `cargo build --release -p logo-cli --features wgpu`"
+            ),
+            #[cfg(feature = "cuda")]
+            (EngineKind::Burn, BackendKind::Cuda, Dtype::F32) => {
+                command.run(BurnEngine::<logo_nn::burn::backend::Cuda>::new(
+                    Default::default(),
+                    "cuda f32",
+                ))
+            }
+            #[cfg(not(feature = "cuda"))]
+            (EngineKind::Burn, BackendKind::Cuda, Dtype::F32) => bail!(
+                "this logo was built without burn's CUDA backend: build it with `cargo build --release -p logo-cli --features cuda` (its build downloads an LLVM toolchain)"
+            ),
         }
     }
 }

@@ -5,8 +5,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::Args;
 use logo_envs::{Env, EnvFactory, EnvOptions};
-use logo_nn::{Checkpoint, CheckpointMeta, Cpu, GaussianPolicy, PolicyConfig};
+use logo_nn::{
+    ActingPolicy, Checkpoint, CheckpointMeta, Cpu, Engine, GaussianPolicy, Policy, PolicyConfig,
+};
 
+use crate::engine::{EngineArgs, WithEngine};
 use crate::rollout::mean_std;
 
 #[derive(Args)]
@@ -21,6 +24,21 @@ pub struct EvalArgs {
     env: Option<String>,
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    /// The engine the policy is loaded onto (any engine or float type loads any
+    /// checkpoint); episodes act with its host copy, as training does.
+    #[command(flatten)]
+    engine: EngineArgs,
+}
+
+/// The checkpoint's policy, converted onto the chosen engine and copied back for acting.
+struct OnEngine<'a>(&'a GaussianPolicy<Cpu>);
+
+impl WithEngine for OnEngine<'_> {
+    type Output = (ActingPolicy, String);
+    fn run<E: Engine>(self, engine: E) -> Result<Self::Output> {
+        let policy = Policy::from_module(&engine, self.0);
+        Ok((policy.acting(&engine), engine.describe()))
+    }
 }
 
 /// The policy stored in a checkpoint, and the checkpoint's metadata.
@@ -45,6 +63,12 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
     let (policy, meta) = load_policy(&args.checkpoint)?;
     let meta = &meta;
+    let (acting, engine) = args.engine.with(OnEngine(&policy))?;
+    let trained_on = logo_algo::engine_history(meta)
+        .iter()
+        .map(|span| format!("{} from iteration {}", span.engine, span.from_iteration))
+        .collect::<Vec<_>>()
+        .join(", ");
     let dense_id = meta
         .env_id
         .strip_prefix("Sparse")
@@ -55,11 +79,16 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         None => vec![dense_id.clone(), format!("Sparse{dense_id}")],
     };
     println!(
-        "{} ({} iteration {}, seed {}): mean action, {} episodes",
+        "{} ({} iteration {}, seed {}; trained on {}): mean action on {engine}, {} episodes",
         args.checkpoint.display(),
         meta.algorithm,
         meta.iteration,
         meta.seed,
+        if trained_on.is_empty() {
+            "an unrecorded engine"
+        } else {
+            &trained_on
+        },
         args.episodes
     );
     for id in ids {
@@ -75,7 +104,6 @@ pub fn run(args: &EvalArgs) -> Result<()> {
             meta.obs_dim,
             meta.act_dim
         );
-        let acting = policy.acting();
         let mut obs = vec![0.0; spec.obs_dim];
         let (mut returns, mut dense, mut lengths) = (Vec::new(), Vec::new(), Vec::new());
         for episode in 0..args.episodes {

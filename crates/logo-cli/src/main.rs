@@ -8,6 +8,7 @@ mod eval;
 mod plot;
 mod rollout;
 mod slurm;
+mod summary;
 mod sweep;
 mod train;
 
@@ -47,6 +48,9 @@ enum Command {
     Sweep(sweep::SweepArgs),
     /// Plot dense evaluation return against samples: mean ± std over seeds per config.
     Plot(plot::PlotArgs),
+    /// The numbers behind a figure: final, peak and late returns per config, mean ± std
+    /// over seeds, as a markdown table.
+    Summary(summary::SummaryArgs),
     /// One run of a written sweep plan (what a Slurm array task runs).
     #[command(hide = true)]
     SweepTask(sweep::TaskArgs),
@@ -85,6 +89,7 @@ fn main() -> ExitCode {
         Command::Data(cmd) => data::run(&cmd),
         Command::Sweep(args) => sweep::run(&args),
         Command::Plot(args) => plot::run(&args),
+        Command::Summary(args) => summary::run(&args),
         Command::SweepTask(args) => sweep::run_task(&args),
     };
     match result {

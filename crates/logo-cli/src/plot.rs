@@ -196,7 +196,7 @@ fn smooth(values: &[f64], window: usize) -> Vec<f64> {
 }
 
 /// The value of the piecewise-linear curve through `points` at `x` (inside its range).
-fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
+pub(crate) fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
     let i = points.partition_point(|p| p.0 < x);
     if i == 0 {
         return points[0].1;

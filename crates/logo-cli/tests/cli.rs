@@ -323,3 +323,54 @@ fn inspect_works_on_every_shipped_dataset() {
     }
     assert_eq!(inspected, 5, "four LOGO sets and the Hopper behaviour set");
 }
+
+#[test]
+fn a_checkpoint_from_one_engine_resumes_and_evaluates_on_another() {
+    let (dir, config) = tiny_run("cross-engine");
+    let run = dir.join("run").to_str().unwrap().to_string();
+    let checkpoint = dir.join("run/checkpoint.safetensors");
+    let checkpoint = checkpoint.to_str().unwrap();
+    // float32 kernels → burn ndarray float64 → evaluated on burn ndarray float32.
+    let f32_run = ["--config", config.to_str().unwrap(), "--out", &run];
+    succeed(&[&["train", "--dtype", "f32"][..], &f32_run[..]].concat());
+    let stdout = succeed(&[
+        "train",
+        "--resume",
+        &run,
+        "--iterations",
+        "3",
+        "--engine",
+        "burn",
+    ]);
+    assert!(stdout.contains("[   3/3]"), "{stdout}");
+    let stdout = succeed(&[
+        "eval",
+        "--checkpoint",
+        checkpoint,
+        "--episodes",
+        "1",
+        "--backend",
+        "ndarray",
+        "--dtype",
+        "f32",
+    ]);
+    assert!(
+        stdout
+            .contains("trained on kernels f32 from iteration 0, burn ndarray f64 from iteration 2")
+            && stdout.contains("mean action on burn ndarray f32"),
+        "{stdout}"
+    );
+    // The same policy on the default engine: float32 rounding of the weights moves the
+    // returns by little (the same seed, the same episode).
+    let on_f64 = succeed(&["eval", "--checkpoint", checkpoint, "--episodes", "1"]);
+    let dense = |s: &str| -> f64 {
+        let line = s
+            .lines()
+            .find(|l| l.starts_with("InvertedDoublePendulum"))
+            .unwrap();
+        let after = line.split("dense return").nth(1).unwrap();
+        after.split_whitespace().next().unwrap().parse().unwrap()
+    };
+    let (a, b) = (dense(&stdout), dense(&on_f64));
+    assert!((a - b).abs() <= 1e-3 * b.abs().max(1.0), "f32 {a}, f64 {b}");
+}

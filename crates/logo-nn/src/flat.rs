@@ -4,7 +4,7 @@
 
 use burn::module::{AutodiffModule, Module, ModuleMapper, ModuleVisitor, Param};
 use burn::tensor::backend::{AutodiffBackend, Backend};
-use burn::tensor::{Tensor, TensorData};
+use burn::tensor::{Tensor, TensorCreationOptions, TensorData};
 
 use crate::mlp::{LayerTensors, Mlp};
 
@@ -26,12 +26,19 @@ pub fn from_f64<B: Backend, const D: usize>(
 }
 
 /// As [`from_f64`], taking the values without copying them first.
+///
+/// The tensor gets the backend's own float type explicitly: burn 0.21 otherwise takes a
+/// device's default dtype from the first backend that used the device, so an
+/// `NdArray<f32>` tensor made after any `NdArray<f64>` one (the same CPU device) would
+/// silently hold f64.
 pub fn from_vec_f64<B: Backend, const D: usize>(
     values: Vec<f64>,
     shape: [usize; D],
     device: &B::Device,
 ) -> Tensor<B, D> {
-    Tensor::from_data(TensorData::new(values, shape), device)
+    let options = TensorCreationOptions::new(device.clone())
+        .with_dtype(<B::FloatElem as burn::tensor::Element>::dtype());
+    Tensor::from_data(TensorData::new(values, shape), options)
 }
 
 /// Σ aᵢ bᵢ of two flat vectors, in order.

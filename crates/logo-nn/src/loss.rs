@@ -10,8 +10,6 @@ use burn::backend::Autodiff;
 use burn::tensor::Tensor;
 use burn::tensor::backend::Backend;
 
-use crate::flat::to_f64;
-
 /// ln(2π), of the Gaussian log-density.
 pub const LOG_2PI: f64 = 1.837_877_066_409_345_5;
 
@@ -113,16 +111,17 @@ pub fn guidance_reward<B: Backend>(logits: Tensor<B, 1>) -> Tensor<B, 1> {
     softplus(logits.neg())
 }
 
-/// A scalar loss of `x` and its gradient with respect to `x`, by burn's autodiff.
+/// A scalar loss of `x` and its gradient with respect to `x`, by burn's autodiff; the
+/// value stays a tensor on `x`'s device until the caller downloads it.
 pub fn value_and_grad<B: Backend, const D: usize>(
     x: Tensor<B, D>,
     loss: impl FnOnce(Tensor<Autodiff<B>, D>) -> Tensor<Autodiff<B>, 1>,
-) -> (f64, Tensor<B, D>) {
+) -> (Tensor<B, 1>, Tensor<B, D>) {
     let x = Tensor::<Autodiff<B>, D>::from_inner(x).require_grad();
     let value = loss(x.clone());
     let grads = value.backward();
     let grad = x.grad(&grads).unwrap_or_else(|| x.inner().zeros_like());
-    (to_f64(value.inner())[0], grad)
+    (value.inner(), grad)
 }
 
 /// As [`value_and_grad`], for a loss of two tensors (a policy's means and its log σ).
@@ -130,17 +129,12 @@ pub fn value_and_grad2<B: Backend, const D1: usize, const D2: usize>(
     x: Tensor<B, D1>,
     y: Tensor<B, D2>,
     loss: impl FnOnce(Tensor<Autodiff<B>, D1>, Tensor<Autodiff<B>, D2>) -> Tensor<Autodiff<B>, 1>,
-) -> (f64, Tensor<B, D1>, Tensor<B, D2>) {
+) -> (Tensor<B, 1>, Tensor<B, D1>, Tensor<B, D2>) {
     let x = Tensor::<Autodiff<B>, D1>::from_inner(x).require_grad();
     let y = Tensor::<Autodiff<B>, D2>::from_inner(y).require_grad();
     let value = loss(x.clone(), y.clone());
     let grads = value.backward();
     let gx = x.grad(&grads).unwrap_or_else(|| x.inner().zeros_like());
     let gy = y.grad(&grads).unwrap_or_else(|| y.inner().zeros_like());
-    (to_f64(value.inner())[0], gx, gy)
-}
-
-/// A rank-1, one-element tensor's value.
-pub fn scalar<B: Backend>(t: Tensor<B, 1>) -> f64 {
-    to_f64(t)[0]
+    (value.inner(), gx, gy)
 }

@@ -12,7 +12,7 @@ use rand::Rng;
 use rand_distr::StandardNormal;
 use serde::{Deserialize, Serialize};
 
-use crate::engine::{Engine, tensor};
+use crate::engine::Engine;
 use crate::flat::{params_to_vec, to_f64, vec_to_params};
 use crate::kernels::HostMlp;
 use crate::loss::{gaussian_entropy, gaussian_log_prob};
@@ -166,7 +166,7 @@ impl<E: Engine> Policy<E> {
     }
 
     pub fn log_std_tensor(&self, engine: &E) -> Tensor<E::B, 1> {
-        tensor(engine, &self.log_std, [self.log_std.len()])
+        engine.upload(&self.log_std, [self.log_std.len()])
     }
 
     /// μ(s) for every row of `obs`.
@@ -189,6 +189,12 @@ impl<E: Engine> Policy<E> {
     }
 
     /// A frozen host copy for acting, refreshed by the trainer once per iteration.
+    /// Whether every parameter (mean network and log σ) is finite.
+    pub fn is_finite(&self, engine: &E) -> bool {
+        let finite = |v: &f64| v.is_finite();
+        self.log_std.iter().all(finite) && engine.params(&self.mean).iter().all(finite)
+    }
+
     pub fn acting(&self, engine: &E) -> ActingPolicy {
         ActingPolicy::new(
             HostMlp::new(self.dims.clone(), engine.params(&self.mean)),

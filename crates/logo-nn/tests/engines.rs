@@ -60,11 +60,7 @@ fn run<E: Engine>(engine: &E, dims: &[usize], seed: u64) -> Results {
         params: engine.params(&net),
         output: to_f64(engine.output(&trace)),
         selected: to_f64(engine.forward(&net, &engine.select(&rows, &picked))),
-        vjp: engine.vjp(
-            &net,
-            &trace,
-            logo_nn::engine::tensor(engine, &upstream, [ROWS, out_dim]),
-        ),
+        vjp: engine.vjp(&net, &trace, engine.upload(&upstream, [ROWS, out_dim])),
         gauss_newton: engine.gauss_newton(&net, &trace, &curvature, &tangent, &weights),
     }
 }
@@ -176,5 +172,45 @@ fn engine_parameters_follow_the_module_layout() {
         },
     ] {
         assert!(max_relative_error(&engine_out, &want) < 1e-14);
+    }
+}
+
+/// burn 0.21 takes a device's default float type from the first backend that used the
+/// device: NdArray<f64> and NdArray<f32> share the CPU device, so without an explicit
+/// dtype a "float32" engine made its tensors in f64 once anything f64 had run. Every
+/// tensor the engines make says its dtype.
+#[test]
+fn float32_engines_hold_float32_after_float64_ran() {
+    use burn::tensor::DType;
+    let _ = Kernels.upload(&[1.0, 2.0], [2]); // f64 first
+    let burn32 = BurnEngine::<Cpu32>::new(Default::default(), "ndarray f32");
+    assert_eq!(burn32.upload(&[1.0, 2.0], [2]).dtype(), DType::F32);
+    let kernels32 = Kernels::<f32>::default();
+    assert_eq!(kernels32.upload(&[1.0], [1]).dtype(), DType::F32);
+    let net = kernels32.net(&[2, 3, 1], &[0.1; 13]);
+    let out = kernels32.forward(&net, &kernels32.rows(&[0.5, -0.5], 2));
+    assert_eq!(out.dtype(), DType::F32);
+    let net = burn32.net(&[2, 3, 1], &[0.1; 13]);
+    assert_eq!(
+        burn32.forward(&net, &burn32.rows(&[0.5, -0.5], 2)).dtype(),
+        DType::F32
+    );
+}
+
+/// The float32 kernels compute what float64 does, to float32 precision.
+#[test]
+fn the_kernels_run_in_float32() {
+    let dims = [5, 16, 12, 3];
+    let (k64, k32) = (
+        run(&Kernels, &dims, 5),
+        run(&Kernels::<f32>::default(), &dims, 5),
+    );
+    for (what, a, b, tol) in [
+        ("output", &k64.output, &k32.output, 1e-5),
+        ("vjp", &k64.vjp, &k32.vjp, 1e-4),
+        ("gauss_newton", &k64.gauss_newton, &k32.gauss_newton, 1e-4),
+    ] {
+        let err = max_relative_error(b, a);
+        assert!(err < tol && err > 0.0, "{what}: {err:e}");
     }
 }

@@ -116,6 +116,16 @@ pub struct UpdateStats {
     pub beta: f64,
 }
 
+impl UpdateStats {
+    /// Whether the step's measurements are numbers: a step that overflowed the policy's
+    /// outputs leaves a non-finite KL or surrogate even where its parameters are finite.
+    pub fn is_finite(&self) -> bool {
+        [self.kl, self.step_norm, self.improvement, self.beta]
+            .iter()
+            .all(|v| v.is_finite())
+    }
+}
+
 impl PolicyUpdateConfig {
     /// Moves `policy` to improve its surrogate on `batch`, keeping KL(policy ‖ result)
     /// near `delta`. `rng` shuffles minibatches (first-order kinds).

@@ -8,8 +8,7 @@ use burn::tensor::Tensor;
 use burn::tensor::backend::Backend;
 use logo_nn::engine::select_rows;
 use logo_nn::loss::{
-    clipped_surrogate, gaussian_kl, gaussian_log_prob, ratio, ratio_surrogate, scalar,
-    value_and_grad2,
+    clipped_surrogate, gaussian_kl, gaussian_log_prob, ratio, ratio_surrogate, value_and_grad2,
 };
 use logo_nn::{Engine, Policy};
 
@@ -144,7 +143,7 @@ pub fn evaluate_means<E: Engine>(
         batch.advantages.clone(),
         anchor,
     );
-    (scalar(value), scalar(kl))
+    (engine.download(value)[0], engine.download(kl)[0])
 }
 
 /// The surrogate at `policy` and its gradient with respect to the policy's parameters
@@ -180,6 +179,6 @@ pub fn gradient<E: Engine>(
         },
     );
     let mut grad = engine.vjp(&policy.mean, trace, d_means);
-    grad.extend(logo_nn::flat::to_f64(d_log_std));
-    (value, grad)
+    grad.extend(engine.download(d_log_std));
+    (engine.download(value)[0], grad)
 }

@@ -1,54 +1,84 @@
-//! The kernels engine: the hand-tuned CPU path of `crate::kernels` behind the seam.
-//! Batch columns and outputs are `NdArray<f64>` tensors (host memory, no copy to speak
-//! of); the networks' passes run on host buffers over rayon's threads.
+//! The kernels engine: the hand-tuned CPU path of `crate::kernels` behind the seam, in
+//! float64 (the default, the reference's precision) or float32. Batch columns and
+//! outputs are `NdArray<F>` tensors (host memory, no copy to speak of); the networks'
+//! passes run on host buffers over rayon's threads. Flat vectors cross the seam as f64.
 
+use std::marker::PhantomData;
 use std::sync::Arc;
 
 use burn::backend::NdArray;
-use burn::tensor::Tensor;
+use burn::backend::ndarray::{FloatNdArrayElement, NdArrayTensor, SharedArray};
+use burn::tensor::{Tensor, TensorCreationOptions, TensorData};
 
 use super::Engine;
-use crate::flat::{from_vec_f64, to_f64};
-use crate::kernels::{HostMlp, HostTrace, OutputSensitivities};
+use crate::kernels::{HostMlp, HostTrace, KernelFloat, OutputSensitivities};
 
-/// The default engine: float64, as the reference computes.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Kernels;
+/// The default engine, float64; `Kernels::<f32>::default()` computes in float32.
+#[derive(Debug, Clone, Copy)]
+pub struct Kernels<F = f64> {
+    _float: PhantomData<F>,
+}
+
+impl<F> Default for Kernels<F> {
+    fn default() -> Self {
+        Self {
+            _float: PhantomData,
+        }
+    }
+}
+
+/// The float64 kernels engine as a value, so that `Trainer::new(Kernels, …)` reads as
+/// the unit struct it was before the engine had a float type.
+#[allow(non_upper_case_globals)]
+pub const Kernels: Kernels<f64> = Kernels {
+    _float: PhantomData,
+};
 
 /// Network inputs in host memory, shared between the passes that read them.
 #[derive(Debug, Clone)]
-pub struct HostRows {
-    values: Arc<Vec<f64>>,
+pub struct HostRows<F> {
+    values: Arc<Vec<F>>,
     width: usize,
 }
 
-impl Engine for Kernels {
-    type B = NdArray<f64>;
-    type Net = HostMlp;
-    type Rows = HostRows;
-    type Trace = HostTrace;
-    type Curvature = OutputSensitivities;
+fn to_host<F: KernelFloat>(values: &[f64]) -> Vec<F> {
+    values.iter().map(|&v| F::from_f64(v)).collect()
+}
+
+fn to_f64<F: KernelFloat>(values: &[F]) -> Vec<f64> {
+    values.iter().map(|v| v.to_f64()).collect()
+}
+
+impl<F: KernelFloat + FloatNdArrayElement> Engine for Kernels<F>
+where
+    NdArrayTensor: From<SharedArray<F>>,
+{
+    type B = NdArray<F>;
+    type Net = HostMlp<F>;
+    type Rows = HostRows<F>;
+    type Trace = HostTrace<F>;
+    type Curvature = OutputSensitivities<F>;
 
     fn describe(&self) -> String {
-        "kernels f64".into()
+        format!("kernels {}", F::NAME)
     }
 
     fn device(&self) -> super::Device<Self> {
         Default::default()
     }
 
-    fn rows(&self, values: &[f64], width: usize) -> HostRows {
+    fn rows(&self, values: &[f64], width: usize) -> HostRows<F> {
         assert!(
             width > 0 && values.len().is_multiple_of(width),
             "rows of the wrong width"
         );
         HostRows {
-            values: Arc::new(values.to_vec()),
+            values: Arc::new(to_host(values)),
             width,
         }
     }
 
-    fn select(&self, rows: &HostRows, indices: &[usize]) -> HostRows {
+    fn select(&self, rows: &HostRows<F>, indices: &[usize]) -> HostRows<F> {
         let w = rows.width;
         let values = indices
             .iter()
@@ -60,47 +90,62 @@ impl Engine for Kernels {
         }
     }
 
-    fn num_rows(&self, rows: &HostRows) -> usize {
+    fn num_rows(&self, rows: &HostRows<F>) -> usize {
         rows.values.len() / rows.width
     }
 
-    fn net(&self, dims: &[usize], params: &[f64]) -> HostMlp {
-        HostMlp::new(dims.to_vec(), params.to_vec())
+    fn net(&self, dims: &[usize], params: &[f64]) -> HostMlp<F> {
+        HostMlp::new(dims.to_vec(), to_host(params))
     }
 
-    fn params(&self, net: &HostMlp) -> Vec<f64> {
-        net.params.clone()
+    fn params(&self, net: &HostMlp<F>) -> Vec<f64> {
+        to_f64(&net.params)
     }
 
-    fn trace(&self, net: &HostMlp, x: &HostRows) -> HostTrace {
+    fn trace(&self, net: &HostMlp<F>, x: &HostRows<F>) -> HostTrace<F> {
         assert_eq!(x.width, net.input_dim(), "rows of the wrong width");
         net.trace(&x.values)
     }
 
-    fn output(&self, trace: &HostTrace) -> Tensor<Self::B, 2> {
-        from_vec_f64(
-            trace.output(),
-            [trace.rows(), trace.output_dim()],
-            &self.device(),
+    fn output(&self, trace: &HostTrace<F>) -> Tensor<Self::B, 2> {
+        let options = TensorCreationOptions::new(self.device())
+            .with_dtype(<F as burn::tensor::Element>::dtype());
+        Tensor::from_data(
+            TensorData::new(trace.output(), [trace.rows(), trace.output_dim()]),
+            options,
         )
     }
 
-    fn vjp(&self, net: &HostMlp, trace: &HostTrace, upstream: Tensor<Self::B, 2>) -> Vec<f64> {
-        net.vjp(trace, &to_f64(upstream))
+    fn vjp(
+        &self,
+        net: &HostMlp<F>,
+        trace: &HostTrace<F>,
+        upstream: Tensor<Self::B, 2>,
+    ) -> Vec<f64> {
+        let upstream = upstream
+            .into_data()
+            .into_vec::<F>()
+            .expect("an NdArray<F> tensor holds F");
+        to_f64(&net.vjp(trace, &upstream))
     }
 
-    fn curvature(&self, net: &HostMlp, trace: &HostTrace) -> OutputSensitivities {
+    fn curvature(&self, net: &HostMlp<F>, trace: &HostTrace<F>) -> OutputSensitivities<F> {
         net.output_sensitivities(trace)
     }
 
     fn gauss_newton(
         &self,
-        net: &HostMlp,
-        trace: &HostTrace,
-        curvature: &OutputSensitivities,
+        net: &HostMlp<F>,
+        trace: &HostTrace<F>,
+        curvature: &OutputSensitivities<F>,
         tangent: &[f64],
         output_weights: &[f64],
     ) -> Vec<f64> {
-        net.gauss_newton_product(trace, curvature, tangent, output_weights)
+        to_f64(&net.gauss_newton_product(
+            trace,
+            curvature,
+            &to_host(tangent),
+            &to_host(output_weights),
+        ))
     }
 }

@@ -39,6 +39,17 @@ pub trait Engine: Send + Sync + 'static {
     /// What the Gauss–Newton product needs besides the trace, computed once per trace.
     type Curvature: Send + Sync;
 
+    /// `values` as a tensor of `shape` on the engine's device: a host → device transfer
+    /// (batch columns, targets, log σ).
+    fn upload<const D: usize>(&self, values: &[f64], shape: [usize; D]) -> Tensor<Self::B, D> {
+        crate::flat::from_f64(values, shape, &self.device())
+    }
+    /// A tensor's values on the host: a device → host transfer (values for GAE, rewards,
+    /// loss values).
+    fn download<const D: usize>(&self, t: Tensor<Self::B, D>) -> Vec<f64> {
+        crate::flat::to_f64(t)
+    }
+
     /// What this engine is, for logs and checkpoint metadata ("kernels f64", …).
     fn describe(&self) -> String;
     fn device(&self) -> Device<Self>;
@@ -74,15 +85,6 @@ pub trait Engine: Send + Sync + 'static {
         tangent: &[f64],
         output_weights: &[f64],
     ) -> Vec<f64>;
-}
-
-/// `values` as a tensor of `shape` on the engine's device.
-pub fn tensor<E: Engine, const D: usize>(
-    engine: &E,
-    values: &[f64],
-    shape: [usize; D],
-) -> Tensor<E::B, D> {
-    crate::flat::from_f64(values, shape, &engine.device())
 }
 
 /// The rows of `t` at `indices` (dimension 0).

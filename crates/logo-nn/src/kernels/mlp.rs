@@ -1,4 +1,4 @@
-//! An MLP (the burn definition of `crate::mlp`) on plain host `f64` buffers: the kernels
+//! An MLP (the burn definition of `crate::mlp`) on plain host buffers of F or f32: the kernels
 //! engine's forward pass, reverse product Jᵀ·u and Gauss–Newton product, for the CPU hot
 //! loops (the critics' L-BFGS fits, the policy gradient, the Fisher-vector products), which
 //! evaluate the same network on the same batch 10–60 times per step.
@@ -13,6 +13,7 @@
 
 use rayon::prelude::*;
 
+use super::float::KernelFloat;
 use super::gemm::{Finish, Start, gemm, gemm_to_vec};
 use crate::mlp::num_params;
 
@@ -24,20 +25,20 @@ pub const BLOCK_ROWS: usize = 256;
 /// An MLP's layer sizes and flat parameters, laid out as [`crate::flat::params_to_vec`]
 /// lays out a [`crate::Mlp`]: for each layer, weight `[in, out]` row-major, then bias `[out]`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct HostMlp {
+pub struct HostMlp<F: KernelFloat = f64> {
     /// `[input, hidden..., output]`.
     pub dims: Vec<usize>,
-    pub params: Vec<f64>,
+    pub params: Vec<F>,
 }
 
 /// The activations of every block of a batch: `[x, h1, ..., output]` per block.
-pub struct HostTrace {
+pub struct HostTrace<F: KernelFloat = f64> {
     rows: usize,
     output_dim: usize,
-    blocks: Vec<Vec<Vec<f64>>>,
+    blocks: Vec<Vec<Vec<F>>>,
 }
 
-impl HostTrace {
+impl<F: KernelFloat> HostTrace<F> {
     pub fn rows(&self) -> usize {
         self.rows
     }
@@ -47,7 +48,7 @@ impl HostTrace {
     }
 
     /// The network's output for every row, `[rows, out]` row-major.
-    pub fn output(&self) -> Vec<f64> {
+    pub fn output(&self) -> Vec<F> {
         self.blocks
             .iter()
             .flat_map(|acts| acts.last().expect("a trace has an output").iter().copied())
@@ -55,8 +56,8 @@ impl HostTrace {
     }
 }
 
-impl HostMlp {
-    pub fn new(dims: Vec<usize>, params: Vec<f64>) -> Self {
+impl<F: KernelFloat> HostMlp<F> {
+    pub fn new(dims: Vec<usize>, params: Vec<F>) -> Self {
         assert!(dims.len() >= 2, "an MLP has at least one layer");
         assert_eq!(
             params.len(),
@@ -79,7 +80,7 @@ impl HostMlp {
     }
 
     /// (weight, bias) of layer `i` within a flat vector laid out like `params`.
-    fn layer<'a>(&self, flat: &'a [f64], i: usize) -> (&'a [f64], &'a [f64]) {
+    fn layer<'a>(&self, flat: &'a [F], i: usize) -> (&'a [F], &'a [F]) {
         let offset = num_params(&self.dims[..=i]);
         let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
         let w = &flat[offset..offset + fan_in * fan_out];
@@ -94,7 +95,7 @@ impl HostMlp {
     }
 
     /// The activations of `x` (`[rows, input]` row-major).
-    pub fn trace(&self, x: &[f64]) -> HostTrace {
+    pub fn trace(&self, x: &[F]) -> HostTrace<F> {
         let input = self.input_dim();
         assert_eq!(x.len() % input, 0, "input rows of the wrong width");
         // One block (rollouts, evaluation) runs inline: a trip through rayon's pool
@@ -113,7 +114,7 @@ impl HostMlp {
         }
     }
 
-    fn trace_block(&self, x: &[f64]) -> Vec<Vec<f64>> {
+    fn trace_block(&self, x: &[F]) -> Vec<Vec<F>> {
         let rows = x.len() / self.input_dim();
         let mut acts = Vec::with_capacity(self.dims.len());
         acts.push(x.to_vec());
@@ -136,14 +137,14 @@ impl HostMlp {
     }
 
     /// The output for every row of `x`.
-    pub fn forward(&self, x: &[f64]) -> Vec<f64> {
+    pub fn forward(&self, x: &[F]) -> Vec<F> {
         self.trace(x).output()
     }
 
     /// ∂output/∂z of every hidden layer but the last, at the rows of `trace`: what
     /// [`Self::gauss_newton_product`] needs besides the trace. Costs `output_dim` reverse
     /// passes through those layers, once per batch.
-    pub fn output_sensitivities(&self, trace: &HostTrace) -> OutputSensitivities {
+    pub fn output_sensitivities(&self, trace: &HostTrace<F>) -> OutputSensitivities<F> {
         let transposed = self.transposed_weights();
         let (layers, outputs) = (self.layers(), self.output_dim());
         let blocks = trace
@@ -160,20 +161,24 @@ impl HostMlp {
                 let (w_out, _) = self.layer(&self.params, layers - 1);
                 let units = self.dims[layers - 1];
                 let h = &acts[layers - 1];
-                let last_hidden: Vec<Vec<f64>> = (0..outputs)
+                let last_hidden: Vec<Vec<F>> = (0..outputs)
                     .map(|k| {
-                        let column: Vec<f64> =
+                        let column: Vec<F> =
                             w_out.iter().skip(k).step_by(outputs).copied().collect();
                         h.chunks_exact(units)
-                            .flat_map(|row| row.iter().zip(&column).map(|(h, w)| (1.0 - h * h) * w))
+                            .flat_map(|row| {
+                                row.iter()
+                                    .zip(&column)
+                                    .map(|(h, w)| (F::ONE - *h * *h) * *w)
+                            })
                             .collect()
                     })
                     .collect();
-                let mut sens: Vec<Vec<Vec<f64>>> = vec![Vec::new(); layers - 2];
+                let mut sens: Vec<Vec<Vec<F>>> = vec![Vec::new(); layers - 2];
                 for i in (0..layers - 2).rev() {
                     let above = sens.get(i + 1).unwrap_or(&last_hidden);
                     let (fan_in, fan_out) = (self.dims[i + 1], self.dims[i + 2]);
-                    let below: Vec<Vec<f64>> = above
+                    let below: Vec<Vec<F>> = above
                         .iter()
                         .map(|s| {
                             gemm_to_vec(
@@ -208,11 +213,11 @@ impl HostMlp {
     /// activations are in cache.
     pub fn gauss_newton_product(
         &self,
-        trace: &HostTrace,
-        sensitivities: &OutputSensitivities,
-        tangent: &[f64],
-        output_weights: &[f64],
-    ) -> Vec<f64> {
+        trace: &HostTrace<F>,
+        sensitivities: &OutputSensitivities<F>,
+        tangent: &[F],
+        output_weights: &[F],
+    ) -> Vec<F> {
         assert_eq!(
             tangent.len(),
             self.num_params(),
@@ -228,15 +233,15 @@ impl HostMlp {
             trace.blocks.len(),
             "sensitivities of another trace"
         );
-        let per_block: Vec<Vec<f64>> = trace
+        let per_block: Vec<Vec<F>> = trace
             .blocks
             .par_iter()
             .zip(&sensitivities.blocks)
             .map(|(acts, sens)| {
                 let jv = self.jvp_block(acts, sens, tangent);
-                let upstream: Vec<f64> = jv
+                let upstream: Vec<F> = jv
                     .chunks_exact(self.output_dim())
-                    .flat_map(|row| row.iter().zip(output_weights).map(|(x, w)| x * w))
+                    .flat_map(|row| row.iter().zip(output_weights).map(|(x, w)| *x * *w))
                     .collect();
                 self.jtu_block(acts, sens, &upstream, &sensitivities.transposed)
             })
@@ -247,10 +252,10 @@ impl HostMlp {
     /// J·tangent for one block, `[rows, out]`: every layer's direct term x·dW + db, carried
     /// to the output by the cached sensitivities (the hidden layers before the last), by
     /// (1 − h²) and W_out (the last hidden layer), or as it is (the output layer).
-    fn jvp_block(&self, acts: &[Vec<f64>], sens: &[Vec<Vec<f64>>], tangent: &[f64]) -> Vec<f64> {
+    fn jvp_block(&self, acts: &[Vec<F>], sens: &[Vec<Vec<F>>], tangent: &[F]) -> Vec<F> {
         let (layers, outputs) = (self.layers(), self.output_dim());
         let rows = acts[0].len() / self.input_dim();
-        let mut jv = vec![0.0; rows * outputs];
+        let mut jv = vec![F::ZERO; rows * outputs];
         for i in 0..layers {
             let (dw, db) = self.layer(tangent, i);
             let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
@@ -270,7 +275,7 @@ impl HostMlp {
                 finish,
             );
             if i + 1 == layers {
-                jv.iter_mut().zip(&dz).for_each(|(j, d)| *j += d);
+                jv.iter_mut().zip(&dz).for_each(|(j, d)| *j += *d);
             } else if last_hidden {
                 let (w_out, _) = self.layer(&self.params, layers - 1);
                 gemm(
@@ -295,14 +300,14 @@ impl HostMlp {
     /// [`Self::jvp_block`].
     fn jtu_block(
         &self,
-        acts: &[Vec<f64>],
-        sens: &[Vec<Vec<f64>>],
-        upstream: &[f64],
-        transposed: &[Vec<f64>],
-    ) -> Vec<f64> {
+        acts: &[Vec<F>],
+        sens: &[Vec<Vec<F>>],
+        upstream: &[F],
+        transposed: &[Vec<F>],
+    ) -> Vec<F> {
         let (layers, outputs) = (self.layers(), self.output_dim());
         let rows = acts[0].len() / self.input_dim();
-        let mut grad = vec![0.0; self.num_params()];
+        let mut grad = vec![F::ZERO; self.num_params()];
         for i in 0..layers {
             let fan_out = self.dims[i + 1];
             let g = if i + 1 == layers {
@@ -318,7 +323,7 @@ impl HostMlp {
                     Finish::TanhDerivative(&acts[i + 1]),
                 )
             } else {
-                let mut g = vec![0.0; rows * fan_out];
+                let mut g = vec![F::ZERO; rows * fan_out];
                 combine_rows(&mut g, &sens[i], upstream, fan_out);
                 g
             };
@@ -329,14 +334,14 @@ impl HostMlp {
 
     /// Reverse-mode: the parameter gradient of Σ output ⊙ `upstream` (`[rows, out]`),
     /// laid out like `params`.
-    pub fn vjp(&self, trace: &HostTrace, upstream: &[f64]) -> Vec<f64> {
+    pub fn vjp(&self, trace: &HostTrace<F>, upstream: &[F]) -> Vec<F> {
         assert_eq!(
             upstream.len(),
             trace.rows * self.output_dim(),
             "upstream of the wrong shape"
         );
         let transposed = self.transposed_weights();
-        let per_block: Vec<Vec<f64>> = trace
+        let per_block: Vec<Vec<F>> = trace
             .blocks
             .par_iter()
             .zip(upstream.par_chunks(BLOCK_ROWS * self.output_dim()))
@@ -348,12 +353,12 @@ impl HostMlp {
     /// Wᵀ (`[out, in]` row-major) of every layer past the first, `[i - 1]` for layer i, once
     /// per call: each block's dz·Wᵀ then reads a row-major operand, which the GEMM packs
     /// with vector copies instead of gathering Wᵀ's columns element by element per block.
-    fn transposed_weights(&self) -> Vec<Vec<f64>> {
+    fn transposed_weights(&self) -> Vec<Vec<F>> {
         (1..self.layers())
             .map(|i| {
                 let (w, _) = self.layer(&self.params, i);
                 let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
-                let mut wt = vec![0.0; fan_in * fan_out];
+                let mut wt = vec![F::ZERO; fan_in * fan_out];
                 for (r, row) in w.chunks_exact(fan_out).enumerate() {
                     for (o, value) in row.iter().enumerate() {
                         wt[o * fan_in + r] = *value;
@@ -366,7 +371,7 @@ impl HostMlp {
 
     /// Layer i's gradient from its input x and ∂/∂z = `dz`: gW = xᵀ·dz, gb = 1ᵀ·dz,
     /// written into its place in `grad`.
-    fn layer_gradient(&self, i: usize, x: &[f64], dz: &[f64], grad: &mut [f64]) {
+    fn layer_gradient(&self, i: usize, x: &[F], dz: &[F], grad: &mut [F]) {
         let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
         let rows = x.len() / fan_in;
         let offset = num_params(&self.dims[..=i]);
@@ -386,10 +391,10 @@ impl HostMlp {
         // gb = Σ_rows dz as the one-row product 1ᵀ·dz (a single 1.0 read with zero
         // strides): the GEMM's few-rows path keeps gb in registers and adds the rows in
         // order, as a plain loop would.
-        gb.fill(0.0);
+        gb.fill(F::ZERO);
         gemm(
             (1, rows, fan_out),
-            &[1.0],
+            &[F::ONE],
             (0, 0),
             dz,
             (fan_out, 1),
@@ -400,9 +405,9 @@ impl HostMlp {
     }
 
     /// `transposed[i - 1]` is layer i's Wᵀ (`[out, in]` row-major).
-    fn vjp_block(&self, acts: &[Vec<f64>], upstream: &[f64], transposed: &[Vec<f64>]) -> Vec<f64> {
+    fn vjp_block(&self, acts: &[Vec<F>], upstream: &[F], transposed: &[Vec<F>]) -> Vec<F> {
         let rows = acts[0].len() / self.input_dim();
-        let mut grad = vec![0.0; self.num_params()];
+        let mut grad = vec![F::ZERO; self.num_params()];
         let mut dz = upstream.to_vec();
         for i in (0..self.layers()).rev() {
             let (fan_in, fan_out) = (self.dims[i], self.dims[i + 1]);
@@ -427,17 +432,17 @@ impl HostMlp {
 /// What [`HostMlp::output_sensitivities`] caches: per block, per hidden layer before the
 /// last, per output k, ∂output_k/∂z as `[rows, units]` row-major; and the weights'
 /// transposes they were built with, which every product's reverse half reads again.
-pub struct OutputSensitivities {
-    blocks: Vec<Vec<Vec<Vec<f64>>>>,
-    transposed: Vec<Vec<f64>>,
+pub struct OutputSensitivities<F: KernelFloat = f64> {
+    blocks: Vec<Vec<Vec<Vec<F>>>>,
+    transposed: Vec<Vec<F>>,
 }
 
 /// The element-wise sum of per-block vectors, in block order (the same bits whatever the
 /// number of threads that made them).
-fn sum_in_order(len: usize, per_block: &[Vec<f64>]) -> Vec<f64> {
-    let mut sum = vec![0.0; len];
+fn sum_in_order<F: KernelFloat>(len: usize, per_block: &[Vec<F>]) -> Vec<F> {
+    let mut sum = vec![F::ZERO; len];
     for block in per_block {
-        sum.iter_mut().zip(block).for_each(|(s, b)| *s += b);
+        sum.iter_mut().zip(block).for_each(|(s, b)| *s += *b);
     }
     sum
 }
@@ -446,7 +451,7 @@ fn sum_in_order(len: usize, per_block: &[Vec<f64>]) -> Vec<f64> {
 /// direct term carried to the outputs (`width` units per row). These loops stream the
 /// cached sensitivities; `multiversion` compiles them for AVX-512 and AVX2 as well.
 #[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx2+fma", "x86_64+avx2+fma"))]
-fn dot_rows(jv: &mut [f64], dz: &[f64], sens: &[Vec<f64>], width: usize) {
+fn dot_rows<F: KernelFloat>(jv: &mut [F], dz: &[F], sens: &[Vec<F>], width: usize) {
     let outputs = sens.len();
     for (r, (d, jv)) in dz
         .chunks_exact(width)
@@ -462,7 +467,7 @@ fn dot_rows(jv: &mut [f64], dz: &[f64], sens: &[Vec<f64>], width: usize) {
 /// g[r, j] = Σ_k sens[k][r, j] · u[r, k]: the gradient at a layer's pre-activations from
 /// the outputs' upstream `u`.
 #[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx2+fma", "x86_64+avx2+fma"))]
-fn combine_rows(g: &mut [f64], sens: &[Vec<f64>], u: &[f64], width: usize) {
+fn combine_rows<F: KernelFloat>(g: &mut [F], sens: &[Vec<F>], u: &[F], width: usize) {
     let outputs = sens.len();
     for (r, (g, u)) in g
         .chunks_exact_mut(width)
@@ -471,7 +476,7 @@ fn combine_rows(g: &mut [f64], sens: &[Vec<f64>], u: &[f64], width: usize) {
     {
         for (s, u) in sens.iter().zip(u) {
             let s = &s[r * width..(r + 1) * width];
-            g.iter_mut().zip(s).for_each(|(g, s)| *g += s * u);
+            g.iter_mut().zip(s).for_each(|(g, s)| *g += *s * *u);
         }
     }
 }
@@ -479,20 +484,19 @@ fn combine_rows(g: &mut [f64], sens: &[Vec<f64>], u: &[f64], width: usize) {
 /// Σ a_i b_i with 32 running sums, so that the loop vectorises into four independent
 /// chains.
 #[inline(always)]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+fn dot<F: KernelFloat>(a: &[F], b: &[F]) -> F {
     const LANES: usize = 32;
-    let mut sums = [0.0; LANES];
+    let mut sums = [F::ZERO; LANES];
     let (a_chunks, b_chunks) = (a.chunks_exact(LANES), b.chunks_exact(LANES));
-    let tail: f64 = a_chunks
+    let tail: F = a_chunks
         .remainder()
         .iter()
         .zip(b_chunks.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
+        .fold(F::ZERO, |sum, (x, y)| sum + *x * *y);
     for (x, y) in a_chunks.zip(b_chunks) {
         for l in 0..LANES {
             sums[l] += x[l] * y[l];
         }
     }
-    sums.iter().sum::<f64>() + tail
+    sums.iter().fold(F::ZERO, |a, &b| a + b) + tail
 }

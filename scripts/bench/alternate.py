@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""Per-iteration wall time of `logo train` variants, alternated (A/B/C, A/B/C, ...) so the
+VM's drift between minutes falls on every variant alike; prints medians per phase as a
+markdown table (the form docs/benchmarks.md records).
+
+Each variant is NAME=ARGS, the arguments of `logo train` (without --out/--iterations);
+ARGS may start with @BINARY to use another build (e.g. one with --features wgpu):
+
+  scripts/bench/alternate.py --iterations 3 --skip 1 --rounds 3 \
+    'f64=--config configs/logo/hopper.toml' \
+    'f32=--config configs/logo/hopper.toml --dtype f32'
+
+The first `--skip` iterations of each run (warm-up: page faults, shader compilation) are
+left out; the rest are averaged per run, and the table shows the median over rounds.
+"""
+
+import argparse
+import csv
+import os
+import shlex
+import statistics
+import subprocess
+import sys
+import tempfile
+
+PHASES = [
+    ("t_sampling", "sampling"),
+    ("t_advantages", "advantages"),
+    ("t_critics", "critic fits"),
+    ("t_policy_step", "improvement"),
+    ("t_guidance", "guidance"),
+    ("t_discriminator", "discriminator"),
+    ("t_evaluation", "evaluation"),
+]
+
+
+def run_once(binary, args, iterations, out):
+    command = [binary, "train", *args, "--iterations", str(iterations), "--out", out]
+    done = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode != 0:
+        sys.exit(f"{shlex.join(command)} failed:\n{done.stderr.strip()}")
+    with open(os.path.join(out, "metrics.csv"), newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("variants", nargs="+", help="NAME=ARGS")
+    parser.add_argument("--logo", default="target/release/logo")
+    parser.add_argument("--iterations", type=int, default=2)
+    parser.add_argument("--skip", type=int, default=1)
+    parser.add_argument("--rounds", type=int, default=3)
+    a = parser.parse_args()
+    if a.skip >= a.iterations:
+        sys.exit("--skip must leave at least one iteration")
+    variants = []
+    for spec in a.variants:
+        name, sep, rest = spec.partition("=")
+        if not sep or not name:
+            sys.exit(f"variant {spec!r}: expected NAME=ARGS")
+        args = shlex.split(rest)
+        binary = a.logo
+        if args and args[0].startswith("@"):
+            binary = args.pop(0)[1:]
+        variants.append((name, binary, args))
+
+    per_run = {name: [] for name, _, _ in variants}
+    with tempfile.TemporaryDirectory(prefix="logo-bench-") as scratch:
+        for round_ in range(a.rounds):
+            for name, binary, args in variants:
+                out = os.path.join(scratch, f"{name}-{round_}")
+                rows = run_once(binary, args, a.iterations, out)[a.skip :]
+                phases = {key: statistics.mean(float(r[key]) for r in rows) for key, _ in PHASES}
+                phases["total"] = sum(phases.values())
+                per_run[name].append(phases)
+                print(f"round {round_ + 1} {name}: {phases['total']:.2f} s/iteration", file=sys.stderr)
+
+    keys = [("total", "**total**")] + PHASES
+    print("| variant | " + " | ".join(label for _, label in keys) + " | vs first |")
+    print("|" + " --- |" * (len(keys) + 2))
+    first = None
+    for name, _, _ in variants:
+        med = {key: statistics.median(r[key] for r in per_run[name]) for key, _ in keys}
+        first = first or med["total"]
+        rounds = " / ".join(f"{r['total']:.2f}" for r in per_run[name])
+        cells = [f"**{med['total']:.2f}** ({rounds})"] + [f"{med[k]:.2f}" for k, _ in PHASES]
+        print(f"| {name} | " + " | ".join(cells) + f" | {first / med['total']:.2f}× |")
+
+
+if __name__ == "__main__":
+    main()

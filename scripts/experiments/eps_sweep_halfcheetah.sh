@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Issue 13: the seed paper's Figure 3, the clip ε of modified LOGO (LOGO+PPO+CDQ,
+# Algorithm 2) on sparse HalfCheetah at 0.1, 0.2, 0.3, 0.4, 3 seeds each, 50 iterations of
+# 20,000 samples (1M). Usage: eps_sweep_halfcheetah.sh [OUT] [JOBS] [ITERATIONS]
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+out="${1:-runs/eps-halfcheetah}"; jobs="${2:-2}"; iterations="${3:-50}"
+logo="${LOGO:-./target/release/logo}"
+mkdir -p "$out/configs"
+configs=()
+for eps in 0.1 0.2 0.3 0.4; do
+  config="$out/configs/eps$eps.toml"
+  sed -e "s|\.\./\.\./data/|$PWD/data/|" \
+      -e "s|^kind = \"ppo-clip\"|kind = \"ppo-clip\"\nclip_epsilon = $eps|" \
+      configs/logo-ppo-cdq/halfcheetah.toml > "$config"
+  configs+=("$config")
+done
+"$logo" sweep "${configs[@]}" --seeds 0..3 --jobs "$jobs" --threads 2 \
+  --iterations "$iterations" --out "$out"
+"$logo" plot "$out" --out "$out/figure.png" --paper-lines --smooth 5
