@@ -4,8 +4,10 @@
                 values to DIR/expected.json
   read DIR    : load DIR/data with minari and compare it with DIR/expected.json (written
                 by the Rust side); exits non-zero on any difference
-  d4rl FILE   : write a small D4RL-style flat HDF5 file with h5py, as D4RL's own files
-                are (float32 arrays, bool terminals/timeouts, next_observations)
+  d4rl FILE [narrow|short]
+              : write a small D4RL-style flat HDF5 file with h5py, as D4RL's own files
+                are (float32 arrays, bool terminals/timeouts, next_observations);
+                narrow/short: next_observations one column or two rows short
 """
 import json
 import os
@@ -94,7 +96,7 @@ def read(root):
     print(f"minari read {len(got)} episodes written by logo-rl: identical")
 
 
-def d4rl(path):
+def d4rl(path, broken=None):
     import h5py
 
     rng = np.random.default_rng(3)
@@ -106,7 +108,12 @@ def d4rl(path):
     timeouts[8] = True  # episode 1: rows 4-8, timed out; episode 2: rows 9-11, cut
     with h5py.File(path, "w") as f:
         f.create_dataset("observations", data=obs, compression="gzip")
-        f.create_dataset("next_observations", data=obs + 1.0)
+        following = obs + 1.0
+        if broken == "narrow":
+            following = following[:, :-1]
+        elif broken == "short":
+            following = following[:-2]
+        f.create_dataset("next_observations", data=following)
         f.create_dataset("actions", data=rng.uniform(-1, 1, (steps, act_dim)).astype(np.float32))
         f.create_dataset("rewards", data=np.arange(steps, dtype=np.float32))
         f.create_dataset("terminals", data=terminals)
@@ -114,4 +121,4 @@ def d4rl(path):
 
 
 if __name__ == "__main__":
-    {"write": write, "read": read, "d4rl": d4rl}[sys.argv[1]](sys.argv[2])
+    {"write": write, "read": read, "d4rl": d4rl}[sys.argv[1]](*sys.argv[2:])

@@ -130,6 +130,38 @@ pub struct ConfigError {
     pub message: String,
 }
 
+/// The largest batch (and evaluation) a run may ask for.
+pub const MAX_SAMPLES_PER_ITER: usize = 10_000_000;
+/// The most env copies or worker threads.
+pub const MAX_ENVS: usize = 4096;
+/// The widest hidden layer, and the most hidden layers, of any network.
+pub const MAX_WIDTH: usize = 65_536;
+pub const MAX_LAYERS: usize = 64;
+/// The most weights between a network's hidden layers (400 MB in float64).
+pub const MAX_HIDDEN_WEIGHTS: usize = 50_000_000;
+
+/// A network's hidden sizes: each 1..=MAX_WIDTH, at most MAX_LAYERS of them.
+pub fn check_widths(key: &str, hidden: &[usize]) -> Result<(), String> {
+    if hidden.len() > MAX_LAYERS {
+        return Err(format!(
+            "{key}: {} layers, at most {MAX_LAYERS}",
+            hidden.len()
+        ));
+    }
+    if let Some(w) = hidden.iter().find(|&&w| w == 0 || w > MAX_WIDTH) {
+        return Err(format!(
+            "{key}: every layer needs 1 to {MAX_WIDTH} units, got {w}"
+        ));
+    }
+    let between: usize = hidden.windows(2).map(|w| w[0] * w[1]).sum();
+    if between > MAX_HIDDEN_WEIGHTS {
+        return Err(format!(
+            "{key}: {between} weights between hidden layers, at most {MAX_HIDDEN_WEIGHTS}"
+        ));
+    }
+    Ok(())
+}
+
 impl TrainConfig {
     /// Reads and checks a config; relative paths inside become relative to its folder.
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
@@ -175,10 +207,26 @@ impl TrainConfig {
         if let Some((key, _)) = positive.iter().find(|(_, v)| *v == 0) {
             return Err(format!("{key} must be at least 1"));
         }
+        // Upper bounds: a batch, an evaluation and the env copies are held in memory, so a
+        // size past these cannot run on any machine this is for (and a typo like
+        // 2000000000 would otherwise sample for ever).
+        let at_most = [
+            (
+                "samples_per_iter",
+                self.samples_per_iter,
+                MAX_SAMPLES_PER_ITER,
+            ),
+            ("eval_steps", self.eval_steps, MAX_SAMPLES_PER_ITER),
+            ("num_envs", self.num_envs, MAX_ENVS),
+            ("threads", self.threads, MAX_ENVS),
+        ];
+        if let Some((key, value, max)) = at_most.iter().find(|(_, v, max)| v > max) {
+            return Err(format!("{key} must be at most {max}, got {value}"));
+        }
         check_positive("max_kl", self.max_kl, false)?;
-        if !self.log_std_init.is_finite() {
+        if !(-20.0..=5.0).contains(&self.log_std_init) {
             return Err(format!(
-                "log_std_init must be finite, got {}",
+                "log_std_init must be in [-20, 5] (σ from 2e-9 to 148), got {}",
                 self.log_std_init
             ));
         }
@@ -187,9 +235,7 @@ impl TrainConfig {
                 return Err(format!("{key} must be in [0, 1], got {v}"));
             }
         }
-        if self.policy_hidden.contains(&0) {
-            return Err("policy_hidden: every layer needs at least 1 unit".into());
-        }
+        check_widths("policy_hidden", &self.policy_hidden)?;
         self.critic.validate("critic")?;
         self.improvement.validate("improvement")?;
         if let Some(p) = &self.init_policy
@@ -279,9 +325,7 @@ impl GuidanceConfig {
             ));
         }
         check_positive("guidance.discriminator_lr", self.discriminator_lr, false)?;
-        if self.discriminator_hidden.contains(&0) {
-            return Err("guidance.discriminator_hidden: every layer needs at least 1 unit".into());
-        }
+        check_widths("guidance.discriminator_hidden", &self.discriminator_hidden)?;
         if self.observe == Some(0) {
             return Err("guidance.observe must be at least 1".into());
         }

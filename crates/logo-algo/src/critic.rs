@@ -124,9 +124,7 @@ fn default_adam_lr() -> f64 {
 impl CriticConfig {
     /// What a config file cannot be trusted to hold; `table` names where it is.
     pub fn validate(&self, table: &str) -> Result<(), String> {
-        if self.hidden.contains(&0) {
-            return Err(format!("{table}.hidden: every layer needs at least 1 unit"));
-        }
+        crate::config::check_widths(&format!("{table}.hidden"), &self.hidden)?;
         match &self.fit {
             CriticFit::Lbfgs(fit) => {
                 if fit.iterations == 0 {

@@ -305,6 +305,39 @@ impl<E: Engine> Trainer<E> {
         config
             .validate()
             .map_err(|e| bad(&format!("metadata config: {e}")))?;
+        // The stored config must describe the stored networks (it sizes them before the
+        // tensors are read) and the algorithm that wrote them.
+        let meta = &ckpt.meta;
+        let expected_algorithm = if config.guidance.is_some() {
+            "logo"
+        } else {
+            "trpo"
+        };
+        for (what, found, expected) in [
+            ("env", meta.env_id.clone(), config.env.clone()),
+            (
+                "algorithm",
+                meta.algorithm.clone(),
+                expected_algorithm.to_string(),
+            ),
+            (
+                "policy network",
+                format!("{:?}", meta.networks.get("policy")),
+                format!("{:?}", Some(&config.policy_hidden)),
+            ),
+            (
+                "critic network",
+                format!("{:?}", meta.networks.get("critic")),
+                format!("{:?}", Some(&config.critic.hidden)),
+            ),
+        ] {
+            if found != expected {
+                return Err(bad(&format!(
+                    "the metadata's {what} is {found}, its config says {expected}"
+                ))
+                .into());
+            }
+        }
         let mut trainer = Self::build(engine, config, run)?;
         let t = &mut trainer;
         t.modules.policy = ckpt.apply("policy", t.modules.policy.clone())?;

@@ -82,3 +82,45 @@ fn variants_are_configurations_of_the_same_run() {
         }
     }
 }
+
+#[test]
+fn sizes_past_what_a_machine_holds_are_refused_naming_the_key() {
+    let dir = std::env::temp_dir().join(format!("logo-config-bounds-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = [
+        "env = \"SparseHopper-v4\"",
+        "iterations = 2",
+        "samples_per_iter = 1000",
+    ];
+    for (line, expected) in [
+        (
+            "samples_per_iter = 2000000000",
+            "samples_per_iter must be at most 10000000",
+        ),
+        ("eval_steps = 99999999999", "eval_steps must be at most"),
+        ("num_envs = 100000", "num_envs must be at most 4096"),
+        ("log_std_init = 400.0", "log_std_init must be in [-20, 5]"),
+        (
+            "policy_hidden = [65536, 65536]",
+            "policy_hidden: 4294967296 weights",
+        ),
+        (
+            "policy_hidden = [64, 1000000]",
+            "policy_hidden: every layer needs 1 to 65536",
+        ),
+        (
+            "[critic]\nhidden = [0]",
+            "critic.hidden: every layer needs 1 to 65536",
+        ),
+    ] {
+        let path = dir.join("bounds.toml");
+        let key = line.split(' ').next().unwrap();
+        let kept: Vec<&str> = base.into_iter().filter(|b| !b.starts_with(key)).collect();
+        std::fs::write(&path, format!("{}\n{line}\n", kept.join("\n"))).unwrap();
+        let err = TrainConfig::load(&path).unwrap_err().to_string();
+        assert!(
+            err.contains("bounds.toml") && err.contains(expected),
+            "{line}: {err}"
+        );
+    }
+}

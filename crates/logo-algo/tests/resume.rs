@@ -144,3 +144,46 @@ fn a_non_finite_update_stops_the_run_and_keeps_the_last_checkpoint() {
     );
     assert_eq!(metrics(&dir), rows);
 }
+
+#[test]
+fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
+    let dir = scratch("tampered");
+    let mut trainer = Trainer::new(Kernels, config(&dir, true), &dir).unwrap();
+    trainer.step().unwrap();
+    trainer.step().unwrap();
+    let path = dir.join("checkpoint.safetensors");
+    let good = logo_nn::Checkpoint::load(&path).unwrap();
+    // A LOGO checkpoint whose stored config lost its guidance: not resumed as TRPO.
+    let mut ckpt = good.clone();
+    ckpt.meta.extra["config"]["guidance"] = serde_json::Value::Null;
+    ckpt.save(&path).unwrap();
+    let err = Trainer::resume(Kernels, &dir, None)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("algorithm is logo, its config says trpo"),
+        "{err}"
+    );
+    // A config whose networks are not the stored ones.
+    let mut ckpt = good.clone();
+    ckpt.meta.extra["config"]["policy_hidden"] = serde_json::json!([32, 32]);
+    ckpt.save(&path).unwrap();
+    let err = Trainer::resume(Kernels, &dir, None)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("policy network is Some([16, 16])"), "{err}");
+    // Sizes that the file's numbers cannot hold are refused on load, before any network
+    // is built from them.
+    let mut ckpt = good;
+    ckpt.meta
+        .networks
+        .insert("policy".into(), vec![1 << 40, 16]);
+    ckpt.save(&path).unwrap();
+    let err = logo_nn::Checkpoint::load(&path).unwrap_err().to_string();
+    assert!(
+        err.contains("networks.policy: hidden sizes [1099511627776, 16] do not fit"),
+        "{err}"
+    );
+}

@@ -47,6 +47,7 @@ pub struct RolloutArgs {
 }
 
 pub fn run(args: &RolloutArgs) -> Result<()> {
+    anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
     let factory = EnvFactory::new(&args.env, &EnvOptions::default())
         .with_context(|| format!("--env {}", args.env))?;
     let mut env = factory.build();

@@ -223,6 +223,12 @@ fn a_missing_checkpoint_is_a_one_line_error() {
 }
 
 #[test]
+fn zero_episodes_is_an_error_not_a_meaningless_mean() {
+    let err = stderr_line(&logo(&["rollout", "--episodes", "0"]));
+    assert_eq!(err, "error: --episodes must be at least 1");
+}
+
+#[test]
 fn unknown_env_ids_are_one_line_errors() {
     let err = stderr_line(&logo(&["rollout", "--env", "Hopper-v9"]));
     assert!(

@@ -171,10 +171,11 @@ pub fn import_d4rl(path: &Path) -> Result<Dataset, DataError> {
         path: path.to_path_buf(),
         reason: e.to_string(),
     };
+    let limit = crate::minari::max_values(bytes.len());
     let file = hdf5_pure::File::from_bytes(bytes).map_err(hdf5_error)?;
     let bad = |field: &str, reason: String| DataError::field(path, None, field, &reason);
     let matrix = |field: &str| {
-        read_table(file.dataset(field), field, &bad).map(|(values, _, cols)| (values, cols))
+        read_table(file.dataset(field), field, &bad, limit).map(|(values, _, cols)| (values, cols))
     };
     let flags = |field: &str| read_flags(file.dataset(field), field, &bad);
     let (obs, obs_dim) = matrix("observations")?;
@@ -188,11 +189,25 @@ pub fn import_d4rl(path: &Path) -> Result<Dataset, DataError> {
         .map(|_| matrix("next_observations"))
         .transpose()?;
     let n = rewards.len();
+    if let Some((_, next_dim)) = &next_obs
+        && *next_dim != obs_dim
+    {
+        return Err(bad(
+            "next_observations",
+            format!("{next_dim} columns, observations have {obs_dim}"),
+        ));
+    }
+    let next_len = next_obs.as_ref().map(|(next, _)| next.len());
     for (field, len, expected) in [
         ("observations", obs.len(), n * obs_dim),
         ("actions", actions.len(), n * act_dim),
         ("terminals", terminals.len(), n),
         ("timeouts", timeouts.len(), n),
+        (
+            "next_observations",
+            next_len.unwrap_or(n * obs_dim),
+            n * obs_dim,
+        ),
     ] {
         if len != expected {
             return Err(bad(

@@ -140,26 +140,46 @@ pub fn write_minari(dataset: &Dataset, dir: &Path) -> Result<(), DataError> {
 
 /// A 1- or 2-D numeric HDF5 dataset as `f64` values, with its rows and columns. `bad`
 /// makes the error for a field.
+/// A float table (1 or 2 dims) of at most `max_values` values (see [`max_values`]).
 pub(crate) fn read_table(
     dataset: Result<hdf5_pure::Dataset, hdf5_pure::Error>,
     field: &str,
     bad: &dyn Fn(&str, String) -> DataError,
+    max_values: u64,
 ) -> Result<(Vec<f64>, usize, usize), DataError> {
     let ds = dataset.map_err(|e| bad(field, format!("missing or unreadable: {e}")))?;
     let shape = ds.shape().map_err(|e| bad(field, e.to_string()))?;
-    let values = ds.read_f64().map_err(|e| bad(field, e.to_string()))?;
     let (rows, cols) = match shape.as_slice() {
-        [rows] => (*rows as usize, 1),
-        [rows, cols] => (*rows as usize, *cols as usize),
+        [rows] => (*rows, 1),
+        [rows, cols] => (*rows, *cols),
         other => return Err(bad(field, format!("shape {other:?}, expected 1 or 2 dims"))),
     };
-    if values.len() != rows * cols {
+    // The shape comes from the file: refuse one that cannot be this file's data before
+    // anything is allocated for it.
+    let count = rows
+        .checked_mul(cols)
+        .filter(|&n| n <= max_values)
+        .ok_or_else(|| {
+            bad(
+                field,
+                format!("shape {shape:?} is larger than the file can hold"),
+            )
+        })?;
+    let (rows, cols) = (rows as usize, cols as usize);
+    let values = ds.read_f64().map_err(|e| bad(field, e.to_string()))?;
+    if values.len() as u64 != count {
         return Err(bad(
             field,
             format!("{} values for shape {shape:?}", values.len()),
         ));
     }
     Ok((values, rows, cols))
+}
+
+/// The most values an HDF5 file of `bytes` bytes can hold: one byte per value,
+/// compressed at most 1032:1 (deflate's limit).
+pub(crate) fn max_values(bytes: usize) -> u64 {
+    (bytes as u64).saturating_mul(1032)
 }
 
 /// A boolean (or 0/1 integer) HDF5 dataset.
@@ -202,6 +222,7 @@ pub fn read_minari(dir: &Path) -> Result<Dataset, DataError> {
         path: h5.clone(),
         source,
     })?;
+    let limit = max_values(bytes.len());
     let file = File::from_bytes(bytes).map_err(hdf5_error)?;
     let mut names: Vec<(usize, String)> = Vec::new();
     for name in file.root().groups().map_err(hdf5_error)? {
@@ -227,7 +248,7 @@ pub fn read_minari(dir: &Path) -> Result<Dataset, DataError> {
         let group = file
             .group(name)
             .map_err(|e| bad("(group)", e.to_string()))?;
-        let matrix = |field: &str| read_table(group.dataset(field), field, &bad);
+        let matrix = |field: &str| read_table(group.dataset(field), field, &bad, limit);
         let flags = |field: &str| read_flags(group.dataset(field), field, &bad);
         let (observations, _, o) = matrix("observations")?;
         let (actions, _, a) = matrix("actions")?;

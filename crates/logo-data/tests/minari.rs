@@ -1,60 +1,17 @@
 //! Minari datasets: our writer and reader, both directions with Python's minari 0.5.4,
 //! the LOGO demonstrations' import, and corrupted files (errors, never panics).
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+use common::{python, repo, scratch, script};
 
 use logo_data::import::{import_logo_npy, reset_pose, split_at_resets};
 use logo_data::{DataError, Dataset, Episode, read_minari, write_minari};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::Value;
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("logo-data-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn python() -> Option<PathBuf> {
-    let python = repo().join(".venv/bin/python");
-    let has_minari = python.exists()
-        && Command::new(&python)
-            .args(["-c", "import minari, h5py"])
-            .status()
-            .is_ok_and(|s| s.success());
-    if has_minari {
-        return Some(python);
-    }
-    assert!(
-        std::env::var_os("LOGO_REQUIRE_PYTHON").is_none(),
-        "{} with minari is missing: run ./scripts/setup.sh",
-        python.display()
-    );
-    eprintln!("skipped: no Python with minari");
-    None
-}
-
-/// Runs `tests/python/minari_roundtrip.py` with `args`; its stdout.
-fn script(python: &Path, args: &[&str]) -> String {
-    let out = Command::new(python)
-        .arg(repo().join("tests/python/minari_roundtrip.py"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}\n{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
 
 fn sample_dataset(seed: u64) -> Dataset {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -307,6 +264,24 @@ fn a_d4rl_file_written_by_h5py_imports_with_its_episodes() {
     let minari_dir = dir.join("converted");
     write_minari(&dataset, &minari_dir).unwrap();
     assert_eq!(read_minari(&minari_dir).unwrap().episodes, dataset.episodes);
+}
+
+#[test]
+fn d4rl_next_observations_of_another_shape_are_refused() {
+    let Some(python) = python() else { return };
+    let dir = scratch("d4rl-next");
+    // One column short would import wrong final observations; two rows short panicked.
+    for (broken, expected) in [("narrow", "2 columns"), ("short", "30 values")] {
+        let file = dir.join(format!("{broken}.hdf5"));
+        script(&python, &["d4rl", file.to_str().unwrap(), broken]);
+        let err = logo_data::import::import_d4rl(&file)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("next_observations") && err.contains(expected) && err.contains(broken),
+            "{err}"
+        );
+    }
 }
 
 #[test]

@@ -52,6 +52,35 @@ impl CheckpointMeta {
     }
 }
 
+/// The metadata's sizes build networks before their tensors are read: each must be at
+/// least 1, and every weight matrix they imply must fit in the `held` numbers the file
+/// actually stores (so a corrupted size is refused before anything is allocated for it).
+fn check_sizes(meta: &CheckpointMeta, held: usize) -> Result<(), String> {
+    for (key, value) in [("obs_dim", meta.obs_dim), ("act_dim", meta.act_dim)] {
+        if value == 0 || value > held {
+            return Err(format!(
+                "{key} = {value}, expected 1..={held} (the numbers this file holds)"
+            ));
+        }
+    }
+    for (name, hidden) in &meta.networks {
+        let dims: Vec<usize> = std::iter::once(meta.obs_dim)
+            .chain(hidden.iter().copied())
+            .chain(std::iter::once(1))
+            .collect();
+        let fits = dims.iter().all(|&d| d >= 1)
+            && dims
+                .windows(2)
+                .all(|w| w[0].checked_mul(w[1]).is_some_and(|n| n <= held));
+        if !fits {
+            return Err(format!(
+                "networks.{name}: hidden sizes {hidden:?} do not fit the {held} numbers this file holds"
+            ));
+        }
+    }
+    Ok(())
+}
+
 #[derive(Debug, thiserror::Error)]
 pub enum CheckpointError {
     #[error("{}: {source}", path.display())]
@@ -321,6 +350,8 @@ impl Checkpoint {
             }
             tensors.insert(name, (view.shape().to_vec(), values));
         }
+        let held: usize = tensors.values().map(|(_, v)| v.len()).sum();
+        check_sizes(&meta, held).map_err(meta_err)?;
         Ok(Self {
             meta,
             tensors,
