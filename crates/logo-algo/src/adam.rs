@@ -16,6 +16,24 @@ pub struct Adam {
 }
 
 impl Adam {
+    /// Moments restored from a checkpoint must be fresh (empty) or fit `len` parameters,
+    /// with finite values and v ≥ 0: [`Adam::step`] would otherwise reset them silently.
+    pub fn check(&self, len: usize) -> Result<(), String> {
+        if self.m.len() != self.v.len() || !(self.m.is_empty() || self.m.len() == len) {
+            return Err(format!(
+                "Adam moments of lengths {} and {}, expected {len} (or none)",
+                self.m.len(),
+                self.v.len()
+            ));
+        }
+        if self.m.iter().any(|x| !x.is_finite())
+            || self.v.iter().any(|x| !(x.is_finite() && *x >= 0.0))
+        {
+            return Err("Adam moments hold a non-finite or negative value".into());
+        }
+        Ok(())
+    }
+
     pub fn step(&mut self, theta: &mut [f64], grad: &[f64], lr: f64) {
         const B1: f64 = 0.9;
         const B2: f64 = 0.999;

@@ -22,9 +22,21 @@ fn at(path: &Path, e: impl std::fmt::Display) -> TrainError {
 impl RunDir {
     /// A new run in `path` (created if needed): writes `config.toml` and an empty
     /// `metrics.csv`.
+    /// A folder that already holds a run's checkpoint is refused: starting afresh there
+    /// would leave the old checkpoint for a later `--resume` to continue under the new
+    /// config.
     pub fn create(path: &Path, config: &TrainConfig) -> Result<Self, TrainError> {
         std::fs::create_dir_all(path).map_err(|e| at(path, e))?;
         let dir = Self::open(path);
+        if dir.checkpoint_path().exists() {
+            return Err(format!(
+                "{} already holds a run (checkpoint.safetensors): continue it with --resume, \
+                 or choose another --out",
+                path.display()
+            )
+            .into());
+        }
+        dir.remove_stale_temporaries()?;
         let config_path = path.join("config.toml");
         std::fs::write(&config_path, toml::to_string(config)?).map_err(|e| at(&config_path, e))?;
         let metrics = dir.metrics_path();
@@ -37,6 +49,21 @@ impl RunDir {
         Self {
             path: path.to_path_buf(),
         }
+    }
+
+    /// Removes `checkpoint.tmp.<pid>` files left by checkpoint writes that were killed
+    /// before their rename (the checkpoint itself is only ever replaced whole).
+    pub fn remove_stale_temporaries(&self) -> Result<(), TrainError> {
+        let Ok(entries) = std::fs::read_dir(&self.path) else {
+            return Ok(());
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            if name.to_string_lossy().starts_with("checkpoint.tmp.") {
+                std::fs::remove_file(entry.path()).map_err(|e| at(&entry.path(), e))?;
+            }
+        }
+        Ok(())
     }
 
     pub fn path(&self) -> &Path {

@@ -284,6 +284,7 @@ impl<E: Engine> Trainer<E> {
         iterations: Option<usize>,
     ) -> Result<Self, TrainError> {
         let run = RunDir::open(out_dir);
+        run.remove_stale_temporaries()?;
         let path = run.checkpoint_path();
         let ckpt = Checkpoint::load(&path)?;
         let bad = |what: &str| format!("{}: {what}", path.display());
@@ -377,6 +378,38 @@ impl<E: Engine> Trainer<E> {
                 t.modules.discriminator = Some(module);
             }
         }
+        // Optimiser states must fit the networks they were saved with.
+        let engine = &t.engine;
+        let policy_len = t.policy.params(engine).len();
+        let mut adams = vec![("improvement.adam", &t.improvement.adam, policy_len)];
+        let sets = [Some(&t.critics.env), t.critics.guidance.as_ref()];
+        for (name, set) in ["critic_adam", "guidance_critic_adam"]
+            .into_iter()
+            .zip(sets)
+        {
+            let Some(set) = set else { continue };
+            if set.adam.len() != set.nets.len() {
+                return Err(bad(&format!(
+                    "resume state {name}: {} Adam states for {} critics",
+                    set.adam.len(),
+                    set.nets.len()
+                ))
+                .into());
+            }
+            for (adam, net) in set.adam.iter().zip(&set.nets) {
+                adams.push((name, adam, engine.params(net).len()));
+            }
+        }
+        if let Some(g) = &t.guidance {
+            adams.push(("guidance.adam", &g.state.adam, policy_len));
+            if let GuidanceSignal::Discriminator(d) = &g.signal {
+                adams.push(("discriminator_adam", &d.optim, engine.params(&d.net).len()));
+            }
+        }
+        for (name, adam, len) in adams {
+            adam.check(len)
+                .map_err(|e| bad(&format!("resume state {name}: {e}")))?;
+        }
         t.rng = state.sampler_rng.to_rng().map_err(|e| bad(&e))?;
         t.venv.restore_reset_points(&state.env_points)?;
         t.iteration = state.iteration;
@@ -413,7 +446,7 @@ impl<E: Engine> Trainer<E> {
         }
         let demos = match config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
             Some(path) => Some(
-                Demonstrations::load(path, spec.obs_dim, spec.act_dim)
+                Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim)
                     .map_err(|e| format!("guidance.demos: {e}"))?,
             ),
             None => None,

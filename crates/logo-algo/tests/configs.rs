@@ -48,7 +48,7 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
                 );
             }
             if let Some(demos) = config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
-                let d = Demonstrations::load(demos, spec.obs_dim, spec.act_dim)
+                let d = Demonstrations::load(demos, &spec.id, spec.obs_dim, spec.act_dim)
                     .unwrap_or_else(|e| panic!("{e}"));
                 assert!(d.len() > 100, "{}", path.display());
             }

@@ -174,6 +174,19 @@ fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
         .unwrap()
         .to_string();
     assert!(err.contains("policy network is Some([16, 16])"), "{err}");
+    // Optimiser moments that do not fit the networks (they would be reset silently).
+    let mut ckpt = good.clone();
+    ckpt.meta.extra["resume"]["critic_adam"][0] =
+        serde_json::json!({"m": [1.0, 2.0, 3.0], "v": [1.0, 2.0, 3.0], "t": 4});
+    ckpt.save(&path).unwrap();
+    let err = Trainer::resume(Kernels, &dir, None)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("resume state critic_adam: Adam moments of lengths 3 and 3"),
+        "{err}"
+    );
     // Sizes that the file's numbers cannot hold are refused on load, before any network
     // is built from them.
     let mut ckpt = good;
@@ -186,4 +199,24 @@ fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
         err.contains("networks.policy: hidden sizes [1099511627776, 16] do not fit"),
         "{err}"
     );
+}
+
+#[test]
+fn a_new_run_in_an_old_runs_folder_is_refused_and_stale_temporaries_go() {
+    let dir = scratch("old-folder");
+    let mut trainer = Trainer::new(Kernels, config(&dir, false), &dir).unwrap();
+    trainer.step().unwrap();
+    trainer.step().unwrap(); // the checkpoint is written here
+    let err = Trainer::new(Kernels, config(&dir, true), &dir)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("already holds a run") && err.contains("--resume"),
+        "{err}"
+    );
+    // A write killed before its rename leaves checkpoint.tmp.<pid>; resuming removes it.
+    std::fs::write(dir.join("checkpoint.tmp.999999"), b"half a checkpoint").unwrap();
+    Trainer::resume(Kernels, &dir, None).unwrap();
+    assert!(!dir.join("checkpoint.tmp.999999").exists());
 }

@@ -107,6 +107,25 @@ impl Dataset {
                     ));
                 }
             }
+            // Only the last step may end the episode, with one flag (terminated or
+            // truncated), not both.
+            let flagged = |k: usize| ep.terminations[k] || ep.truncations[k];
+            if let Some(k) = (0..t - 1).find(|&k| flagged(k)) {
+                return Err(bad(
+                    if ep.terminations[k] {
+                        "terminations"
+                    } else {
+                        "truncations"
+                    },
+                    format!("step {k} of {t} ends the episode before its last step"),
+                ));
+            }
+            if ep.terminations[t - 1] && ep.truncations[t - 1] {
+                return Err(bad(
+                    "terminations/truncations",
+                    "both set on the last step, expected one".into(),
+                ));
+            }
             for (field, values, width) in [
                 ("observations", &ep.observations, self.obs_dim),
                 ("actions", &ep.actions, self.act_dim),
@@ -126,6 +145,27 @@ impl Dataset {
             }
         }
         Ok(())
+    }
+
+    /// Checks the env the dataset names (if any) against `env_id`: the same family
+    /// (`SparseHopper-v4` and `Hopper-v5` are both Hopper; Walker2d and HalfCheetah, with
+    /// equal dims, are not).
+    pub fn check_env(&self, path: &Path, env_id: &str) -> Result<(), DataError> {
+        let family = |id: &str| {
+            let id = id.strip_prefix("Sparse").unwrap_or(id);
+            id.rsplit_once("-v")
+                .map_or(id, |(name, _)| name)
+                .to_string()
+        };
+        match self.env_id() {
+            Some(recorded) if family(recorded) != family(env_id) => Err(DataError::field(
+                path,
+                None,
+                "logo_env_id",
+                &format!("recorded in {recorded}, but the run's env is {env_id}"),
+            )),
+            _ => Ok(()),
+        }
     }
 
     /// Checks the dims against an env's.

@@ -82,12 +82,20 @@ impl Demonstrations {
 
     /// Loads demonstrations from a Minari dataset folder or a LOGO `.npy` array, checking
     /// the dims against the env's.
-    pub fn load(path: &Path, obs_dim: usize, act_dim: usize) -> Result<Self, DataError> {
+    /// Demonstrations for `env_id` (a Minari folder, or LOGO's `.npy`): dims must match,
+    /// and a dataset that names the env it was recorded in must name the same env family.
+    pub fn load(
+        path: &Path,
+        env_id: &str,
+        obs_dim: usize,
+        act_dim: usize,
+    ) -> Result<Self, DataError> {
         if !path.is_dir() {
             return Self::from_npy(path, obs_dim, act_dim);
         }
         let dataset = read_minari(path)?;
         dataset.check_dims(path, obs_dim, act_dim)?;
+        dataset.check_env(path, env_id)?;
         Ok(Self::from_dataset(&dataset, path))
     }
 

@@ -193,6 +193,45 @@ fn bad_values_are_errors_naming_file_episode_and_field() {
 }
 
 #[test]
+fn end_flags_mid_episode_or_doubled_are_errors() {
+    let mut mid = sample_dataset(3);
+    let i = mid.episodes.iter().position(|e| e.steps() >= 2).unwrap();
+    mid.episodes[i].terminations[0] = true;
+    let err = mid.validate(Path::new("x")).unwrap_err().to_string();
+    assert!(
+        err.contains(&format!("episode {i}"))
+            && err.contains("terminations")
+            && err.contains("step 0"),
+        "{err}"
+    );
+    let mut both = sample_dataset(3);
+    let last = both.episodes[0].steps() - 1;
+    both.episodes[0].terminations[last] = true;
+    both.episodes[0].truncations[last] = true;
+    let err = both.validate(Path::new("x")).unwrap_err().to_string();
+    assert!(
+        err.contains("episode 0") && err.contains("both set"),
+        "{err}"
+    );
+}
+
+#[test]
+fn demonstrations_recorded_in_another_env_are_refused() {
+    // Walker2d's demonstrations have HalfCheetah's dims (17, 6): only the recorded env
+    // id tells them apart.
+    let dir = repo().join("data/logo/walker2d");
+    let err = logo_data::Demonstrations::load(&dir, "SparseHalfCheetah-v4", 17, 6)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("recorded in Walker2d-v4") && err.contains("SparseHalfCheetah-v4"),
+        "{err}"
+    );
+    // Another version or the sparse variant of the same env is the same family.
+    logo_data::Demonstrations::load(&dir, "Walker2d-v5", 17, 6).unwrap();
+}
+
+#[test]
 fn corrupted_and_truncated_files_are_errors_not_panics() {
     let dir = scratch("fuzz");
     write_minari(&sample_dataset(4), &dir).unwrap();
@@ -287,14 +326,14 @@ fn d4rl_next_observations_of_another_shape_are_refused() {
 #[test]
 fn demonstrations_of_the_wrong_dims_are_refused_with_the_file_named() {
     let dir = repo().join("data/logo/hopper");
-    let err = logo_data::Demonstrations::load(&dir, 17, 6)
+    let err = logo_data::Demonstrations::load(&dir, "SparseHopper-v4", 17, 6)
         .unwrap_err()
         .to_string();
     assert!(
         err.contains("data/logo/hopper") && err.contains("(11, 3)") && err.contains("(17, 6)"),
         "{err}"
     );
-    let ok = logo_data::Demonstrations::load(&dir, 11, 3).unwrap();
+    let ok = logo_data::Demonstrations::load(&dir, "SparseHopper-v4", 11, 3).unwrap();
     assert_eq!(ok.len(), 3869);
 }
 
