@@ -223,6 +223,28 @@ fn a_missing_checkpoint_is_a_one_line_error() {
 }
 
 #[test]
+fn an_os_error_is_said_once_with_its_path() {
+    for args in [
+        &["eval", "--checkpoint", "/nonexistent/ckpt.safetensors"][..],
+        &[
+            "data",
+            "import",
+            "--from",
+            "d4rl",
+            "/nonexistent/d4rl.hdf5",
+            "--out",
+            "/tmp/x",
+        ],
+    ] {
+        let err = stderr_line(&logo(args));
+        assert!(
+            err.contains("/nonexistent/") && err.matches("os error 2").count() == 1,
+            "{err}"
+        );
+    }
+}
+
+#[test]
 fn zero_episodes_is_an_error_not_a_meaningless_mean() {
     let err = stderr_line(&logo(&["rollout", "--episodes", "0"]));
     assert_eq!(err, "error: --episodes must be at least 1");
