@@ -127,17 +127,24 @@ impl CriticConfig {
         crate::config::check_widths(&format!("{table}.hidden"), &self.hidden)?;
         match &self.fit {
             CriticFit::Lbfgs(fit) => {
-                if fit.iterations == 0 {
-                    return Err(format!("{table}.fit.iterations must be at least 1"));
-                }
+                crate::policy_update::check_count(
+                    &format!("{table}.fit.iterations"),
+                    fit.iterations,
+                    100_000,
+                )?;
                 check_positive(&format!("{table}.fit.l2"), fit.l2, true)
             }
             CriticFit::Adam(fit) => {
-                for (key, value) in [("epochs", fit.epochs), ("minibatch", fit.minibatch)] {
-                    if value == 0 {
-                        return Err(format!("{table}.fit.{key} must be at least 1"));
-                    }
-                }
+                crate::policy_update::check_count(
+                    &format!("{table}.fit.epochs"),
+                    fit.epochs,
+                    10_000,
+                )?;
+                crate::policy_update::check_count(
+                    &format!("{table}.fit.minibatch"),
+                    fit.minibatch,
+                    crate::config::MAX_SAMPLES_PER_ITER,
+                )?;
                 check_positive(
                     &format!("{table}.fit.learning_rate"),
                     fit.learning_rate,

@@ -112,6 +112,26 @@ fn sizes_past_what_a_machine_holds_are_refused_naming_the_key() {
             "[critic]\nhidden = [0]",
             "critic.hidden: every layer needs 1 to 65536",
         ),
+        (
+            "[critic]\nfit = { method = \"lbfgs\", iterations = 100000000 }",
+            "critic.fit.iterations must be in 1..=100000",
+        ),
+        (
+            "[improvement]\ncg_iters = 0",
+            "improvement.cg_iters must be in 1..=10000",
+        ),
+        (
+            "[improvement]\nbacktracks = 1000",
+            "improvement.backtracks must be in 1..=60",
+        ),
+        (
+            "[improvement]\nkind = \"ppo-clip\"\nclip_epsilon = 1.5",
+            "improvement.clip_epsilon must be in (0, 1)",
+        ),
+        (
+            "[improvement]\nkind = \"ppo-clip\"\nepochs = 99999999",
+            "improvement.epochs must be in 1..=10000",
+        ),
     ] {
         let path = dir.join("bounds.toml");
         let key = line.split(' ').next().unwrap();

@@ -177,6 +177,22 @@ impl PolicyUpdateConfig {
     }
 }
 
+/// A count from a config: 1..=`max`; the message names the key.
+pub(crate) fn check_count(key: &str, value: usize, max: usize) -> Result<(), String> {
+    if value == 0 || value > max {
+        return Err(format!("{key} must be in 1..={max}, got {value}"));
+    }
+    Ok(())
+}
+
+/// A clip range ε: in (0, 1), so that 1 − ε stays a positive ratio.
+pub(crate) fn check_clip(key: &str, value: f64) -> Result<(), String> {
+    if !(value > 0.0 && value < 1.0) {
+        return Err(format!("{key} must be in (0, 1), got {value}"));
+    }
+    Ok(())
+}
+
 /// `value` must be finite and > 0 (or ≥ 0 with `allow_zero`); the message names the key.
 pub(crate) fn check_positive(key: &str, value: f64, allow_zero: bool) -> Result<(), String> {
     let ok = value.is_finite() && (value > 0.0 || (allow_zero && value == 0.0));

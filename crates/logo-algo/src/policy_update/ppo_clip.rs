@@ -69,7 +69,7 @@ impl Default for PpoClipConfig {
 
 impl PpoClipConfig {
     pub fn validate(&self, table: &str) -> Result<(), String> {
-        check_positive(&format!("{table}.clip_epsilon"), self.clip_epsilon, false)?;
+        super::check_clip(&format!("{table}.clip_epsilon"), self.clip_epsilon)?;
         check_positive(&format!("{table}.kl_stop"), self.kl_stop, false)?;
         check_positive(&format!("{table}.learning_rate"), self.learning_rate, false)?;
         check_positive(&format!("{table}.max_grad_norm"), self.max_grad_norm, false)?;
@@ -77,14 +77,14 @@ impl PpoClipConfig {
     }
 }
 
-/// `epochs` and `minibatch` of a first-order kind are at least 1.
+/// `epochs` (1..=10,000) and `minibatch` (1..=the largest batch) of a first-order kind.
 pub(super) fn check_counts(table: &str, epochs: usize, minibatch: usize) -> Result<(), String> {
-    for (key, value) in [("epochs", epochs), ("minibatch", minibatch)] {
-        if value == 0 {
-            return Err(format!("{table}.{key} must be at least 1"));
-        }
-    }
-    Ok(())
+    super::check_count(&format!("{table}.epochs"), epochs, 10_000)?;
+    super::check_count(
+        &format!("{table}.minibatch"),
+        minibatch,
+        crate::config::MAX_SAMPLES_PER_ITER,
+    )
 }
 
 pub(super) fn update<E: Engine>(

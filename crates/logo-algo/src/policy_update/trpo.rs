@@ -85,14 +85,12 @@ impl TrpoConfig {
             check_positive(&format!("{table}.kl_limit"), limit, false)?;
         }
         if let Some(epsilon) = self.clip_epsilon {
-            check_positive(&format!("{table}.clip_epsilon"), epsilon, false)?;
+            super::check_clip(&format!("{table}.clip_epsilon"), epsilon)?;
         }
-        for (key, value) in [("cg_iters", self.cg_iters), ("backtracks", self.backtracks)] {
-            if value == 0 {
-                return Err(format!("{table}.{key} must be at least 1"));
-            }
-        }
-        Ok(())
+        // CG in more iterations than there are parameters gains nothing; 60 halvings
+        // already shrink a step below float64's resolution.
+        super::check_count(&format!("{table}.cg_iters"), self.cg_iters, 10_000)?;
+        super::check_count(&format!("{table}.backtracks"), self.backtracks, 60)
     }
 }
 
