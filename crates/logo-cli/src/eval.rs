@@ -92,8 +92,13 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         args.episodes
     );
     for id in ids {
+        // Name where the id came from: the flag, or the checkpoint's metadata.
+        let source = match &args.env {
+            Some(_) => format!("--env {id}"),
+            None => format!("{}: env_id {id}", args.checkpoint.display()),
+        };
         let mut env = EnvFactory::new(&id, &EnvOptions::default())
-            .with_context(|| format!("--env {id}"))?
+            .with_context(|| source)?
             .build();
         let spec = env.spec().clone();
         anyhow::ensure!(

@@ -245,6 +245,28 @@ fn an_os_error_is_said_once_with_its_path() {
 }
 
 #[test]
+fn an_error_names_the_checkpoint_not_a_flag_the_user_did_not_give() {
+    let (dir, config) = tiny_run("blame");
+    let run = dir.join("run");
+    succeed(&[
+        "train",
+        "--config",
+        config.to_str().unwrap(),
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    let path = run.join("checkpoint.safetensors");
+    let mut ckpt = logo_nn::Checkpoint::load(&path).unwrap();
+    ckpt.meta.env_id = "Teapot-v1".into();
+    ckpt.save(&path).unwrap();
+    let err = stderr_line(&logo(&["eval", "--checkpoint", path.to_str().unwrap()]));
+    assert!(
+        err.contains("checkpoint.safetensors: env_id Teapot-v1") && !err.contains("--env"),
+        "{err}"
+    );
+}
+
+#[test]
 fn zero_episodes_is_an_error_not_a_meaningless_mean() {
     let err = stderr_line(&logo(&["rollout", "--episodes", "0"]));
     assert_eq!(err, "error: --episodes must be at least 1");
