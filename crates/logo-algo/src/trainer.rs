@@ -528,8 +528,15 @@ impl<E: Engine> Trainer<E> {
         self.run.path()
     }
 
-    /// Runs one iteration and appends its row to `metrics.csv`.
+    /// Runs one iteration and appends its row to `metrics.csv`; an error names the
+    /// iteration.
     pub fn step(&mut self) -> Result<IterationMetrics, TrainError> {
+        let k = self.iteration;
+        self.iterate()
+            .map_err(|e| format!("iteration {k}: {e}").into())
+    }
+
+    fn iterate(&mut self) -> Result<IterationMetrics, TrainError> {
         let k = self.iteration;
         let engine = &self.engine;
         let config = &self.config;
@@ -694,7 +701,7 @@ impl<E: Engine> Trainer<E> {
                 None => "no checkpoint had been written yet".to_string(),
             };
             format!(
-                "iteration {k}: {e}; the run stopped ({kept} in {})",
+                "{e}; the run stopped ({kept} in {})",
                 self.run.path().display()
             )
             .into()

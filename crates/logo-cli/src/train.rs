@@ -144,25 +144,28 @@ fn train<E: Engine>(engine: E, start: Start, stop: Option<(f64, StopMetric)>) ->
         out.display()
     );
     let total = trainer.config.iterations;
+    let guided = trainer.config.guidance.is_some();
     let mut best = (f64::NEG_INFINITY, 0);
     let mut last = None;
     while !trainer.done() {
-        let m = trainer
-            .step()
-            .map_err(|e| anyhow::anyhow!("{e}"))
-            .context(format!("iteration {}", trainer.iteration()))?;
+        let m = trainer.step().map_err(|e| anyhow::anyhow!("{e}"))?;
         if m.eval_dense_return > best.0 {
             best = (m.eval_dense_return, m.iteration);
         }
         let per_iter = m.wall_s / (m.iteration + 1) as f64;
         println!(
-            "[{:>4}/{total}] samples {:>9} | sparse {:>9.2} | eval dense {:>9.2} | kl {:.4} | δk {:.3e} | {:.2} s/it, ETA {:.0} s",
+            "[{:>4}/{total}] samples {:>9} | sparse {:>9.2} | eval dense {:>9.2} | kl {:.4}{} | {:.2} s/it, ETA {:.0} s",
             m.iteration + 1,
             m.samples,
             m.train_sparse_return,
             m.eval_dense_return,
             m.kl,
-            m.delta_k,
+            // δ_k exists only where there is a guidance step.
+            if guided {
+                format!(" | δk {:.3e}", m.delta_k)
+            } else {
+                String::new()
+            },
             per_iter,
             per_iter * (total - m.iteration - 1) as f64
         );
