@@ -89,6 +89,11 @@ fn direction(grad: &[f64], history: &[(Vec<f64>, Vec<f64>, f64)], first: f64) ->
     q.iter().map(|v| -v).collect()
 }
 
+/// x + step·d, a line search's trial point.
+fn along(x: &[f64], d: &[f64], step: f64) -> Vec<f64> {
+    x.iter().zip(d).map(|(xi, di)| xi + step * di).collect()
+}
+
 /// Minimises `f` from `x0` for at most `max_iter` iterations.
 pub fn minimize(
     f: &mut impl Objective,
@@ -123,11 +128,7 @@ fn minimize_backtracking(f: &mut impl Objective, x0: Vec<f64>, max_iter: usize) 
         let mut step = 1.0;
         let mut accepted = None;
         for _ in 0..20 {
-            let candidate: Vec<f64> = x
-                .iter()
-                .zip(&direction)
-                .map(|(xi, di)| xi + step * di)
-                .collect();
+            let candidate = along(&x, &direction, step);
             let l = f.loss(&candidate);
             evaluations += 1;
             if l.is_finite() && l <= loss + 1e-4 * step * slope {
@@ -209,11 +210,7 @@ fn minimize_strong_wolfe(f: &mut impl Objective, x0: Vec<f64>, max_iter: usize) 
         let mut accepted = None;
         for _ in 0..20 {
             // Every trial point needs its gradient (the curvature condition).
-            let candidate: Vec<f64> = x
-                .iter()
-                .zip(&direction)
-                .map(|(xi, di)| xi + step * di)
-                .collect();
+            let candidate = along(&x, &direction, step);
             let l = f.loss(&candidate);
             let g = f.gradient();
             evaluations += 1;

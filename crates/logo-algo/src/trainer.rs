@@ -93,6 +93,15 @@ pub struct Trainer<E: Engine> {
     saved_at: Option<usize>,
 }
 
+/// The algorithm a checkpoint's metadata names: "logo" with a guidance step, else "trpo".
+fn checkpoint_algorithm(config: &TrainConfig) -> &'static str {
+    if config.guidance.is_some() {
+        "logo"
+    } else {
+        "trpo"
+    }
+}
+
 /// Stops the run when a step left a non-finite number behind.
 fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError> {
     if ok {
@@ -309,17 +318,12 @@ impl<E: Engine> Trainer<E> {
         // The stored config must describe the stored networks (it sizes them before the
         // tensors are read) and the algorithm that wrote them.
         let meta = &ckpt.meta;
-        let expected_algorithm = if config.guidance.is_some() {
-            "logo"
-        } else {
-            "trpo"
-        };
         for (what, found, expected) in [
             ("env", meta.env_id.clone(), config.env.clone()),
             (
                 "algorithm",
                 meta.algorithm.clone(),
-                expected_algorithm.to_string(),
+                checkpoint_algorithm(&config).to_string(),
             ),
             (
                 "policy network",
@@ -748,11 +752,7 @@ impl<E: Engine> Trainer<E> {
     pub fn save_checkpoint(&self, path: &Path) -> Result<(), TrainError> {
         let engine = &self.engine;
         let spec = self.venv.spec();
-        let algorithm = if self.guidance.is_some() {
-            "logo"
-        } else {
-            "trpo"
-        };
+        let algorithm = checkpoint_algorithm(&self.config);
         let mut meta = CheckpointMeta::new(&spec.id, spec.obs_dim, spec.act_dim, algorithm);
         let dims = &self.policy.dims;
         meta.networks

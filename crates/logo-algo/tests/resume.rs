@@ -153,36 +153,31 @@ fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
     trainer.step().unwrap();
     let path = dir.join("checkpoint.safetensors");
     let good = logo_nn::Checkpoint::load(&path).unwrap();
+    // The checkpoint with one edit, saved over the run's; the error resuming it.
+    let resume_edited = |edit: &dyn Fn(&mut logo_nn::Checkpoint)| {
+        let mut ckpt = good.clone();
+        edit(&mut ckpt);
+        ckpt.save(&path).unwrap();
+        Trainer::resume(Kernels, &dir, None)
+            .err()
+            .unwrap()
+            .to_string()
+    };
     // A LOGO checkpoint whose stored config lost its guidance: not resumed as TRPO.
-    let mut ckpt = good.clone();
-    ckpt.meta.extra["config"]["guidance"] = serde_json::Value::Null;
-    ckpt.save(&path).unwrap();
-    let err = Trainer::resume(Kernels, &dir, None)
-        .err()
-        .unwrap()
-        .to_string();
+    let err = resume_edited(&|c| c.meta.extra["config"]["guidance"] = serde_json::Value::Null);
     assert!(
         err.contains("algorithm is logo, its config says trpo"),
         "{err}"
     );
     // A config whose networks are not the stored ones.
-    let mut ckpt = good.clone();
-    ckpt.meta.extra["config"]["policy_hidden"] = serde_json::json!([32, 32]);
-    ckpt.save(&path).unwrap();
-    let err = Trainer::resume(Kernels, &dir, None)
-        .err()
-        .unwrap()
-        .to_string();
+    let err =
+        resume_edited(&|c| c.meta.extra["config"]["policy_hidden"] = serde_json::json!([32, 32]));
     assert!(err.contains("policy network is Some([16, 16])"), "{err}");
     // Optimiser moments that do not fit the networks (they would be reset silently).
-    let mut ckpt = good.clone();
-    ckpt.meta.extra["resume"]["critic_adam"][0] =
-        serde_json::json!({"m": [1.0, 2.0, 3.0], "v": [1.0, 2.0, 3.0], "t": 4});
-    ckpt.save(&path).unwrap();
-    let err = Trainer::resume(Kernels, &dir, None)
-        .err()
-        .unwrap()
-        .to_string();
+    let err = resume_edited(&|c| {
+        c.meta.extra["resume"]["critic_adam"][0] =
+            serde_json::json!({"m": [1.0, 2.0, 3.0], "v": [1.0, 2.0, 3.0], "t": 4})
+    });
     assert!(
         err.contains("resume state critic_adam: Adam moments of lengths 3 and 3"),
         "{err}"
