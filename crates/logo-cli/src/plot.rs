@@ -1,7 +1,9 @@
 //! `logo plot RUN_DIRS… --out FIG.png|FIG.svg`: dense evaluation return against samples,
 //! one line per configuration with a mean ± std band over its seeds, as the LOGO paper's
 //! Figure 1 and the seed paper's Figures 2-3 draw them. The numbers drawn are written
-//! beside the figure as CSV (`FIG.csv`).
+//! beside the figure as CSV (`FIG.csv`). `--metric` draws any other numeric column of
+//! `metrics.csv` the same way (mean log σ, step sizes, guidance KL, critic losses), and
+//! `--log10` its base-10 logarithm, for quantities that span decades.
 //!
 //! A folder holding `metrics.csv` is a run; any other folder is searched (two levels
 //! down) for runs, so a `logo sweep` folder plots as a whole. Runs in folders named
@@ -40,6 +42,47 @@ pub struct PlotArgs {
     /// Points on each curve's sample grid.
     #[arg(long, default_value_t = 200)]
     points: usize,
+    /// The metrics.csv column to draw (e.g. mean_log_std, step_norm, guidance_kl,
+    /// critic_loss); iterations where it is NaN are skipped.
+    #[arg(long, default_value = EVAL_RETURN)]
+    metric: String,
+    /// Draw log10 of the metric (seeds are averaged in log space); values ≤ 0 are skipped.
+    #[arg(long)]
+    log10: bool,
+}
+
+/// The column `logo plot` and `logo summary` read by default.
+pub const EVAL_RETURN: &str = "eval_dense_return";
+
+/// Which column of metrics.csv to read, and whether as its log10.
+#[derive(Debug, Clone)]
+pub struct Metric {
+    pub column: String,
+    pub log10: bool,
+}
+
+impl Metric {
+    pub fn eval_return() -> Self {
+        Self {
+            column: EVAL_RETURN.into(),
+            log10: false,
+        }
+    }
+
+    /// The axis label.
+    fn label(&self) -> String {
+        match (self.column.as_str(), self.log10) {
+            (EVAL_RETURN, false) => "dense evaluation return".into(),
+            (column, false) => column.into(),
+            (column, true) => format!("log10 {column}"),
+        }
+    }
+
+    /// The plotted value of one field, or None where it is not drawn.
+    fn value(&self, v: f64) -> Option<f64> {
+        let y = if self.log10 { v.log10() } else { v };
+        y.is_finite().then_some(y)
+    }
 }
 
 fn parse_hline(text: &str) -> Result<(String, f64), String> {
@@ -61,7 +104,7 @@ fn parse_hline(text: &str) -> Result<(String, f64), String> {
 pub struct Run {
     pub group: String,
     pub env: Option<String>,
-    /// (samples, dense evaluation return), in order, evaluated iterations only.
+    /// (samples, the metric), in order, iterations where the metric is defined only.
     pub points: Vec<(f64, f64)>,
 }
 
@@ -75,8 +118,8 @@ pub struct Curve {
     pub seeds: usize,
 }
 
-/// Every run under `paths` (see the module doc).
-pub fn discover(paths: &[PathBuf]) -> Result<Vec<Run>> {
+/// Every run under `paths` (see the module doc), reading `metric`.
+pub fn discover(paths: &[PathBuf], metric: &Metric) -> Result<Vec<Run>> {
     let mut dirs = Vec::new();
     for path in paths {
         ensure!(path.is_dir(), "{}: not a folder", path.display());
@@ -91,7 +134,7 @@ pub fn discover(paths: &[PathBuf]) -> Result<Vec<Run>> {
             .collect::<Vec<_>>()
             .join(", ")
     );
-    dirs.iter().map(|d| read_run(d)).collect()
+    dirs.iter().map(|d| read_run(d, metric)).collect()
 }
 
 fn collect_runs(dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<()> {
@@ -114,7 +157,7 @@ fn collect_runs(dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<()> 
     Ok(())
 }
 
-fn read_run(dir: &Path) -> Result<Run> {
+fn read_run(dir: &Path, metric: &Metric) -> Result<Run> {
     let path = dir.join("metrics.csv");
     let mut reader =
         csv::Reader::from_path(&path).with_context(|| format!("{}", path.display()))?;
@@ -128,7 +171,7 @@ fn read_run(dir: &Path) -> Result<Run> {
             .position(|h| h == name)
             .with_context(|| format!("{}: no column {name:?}", path.display()))
     };
-    let (samples_at, eval_at) = (column("samples")?, column("eval_dense_return")?);
+    let (samples_at, metric_at) = (column("samples")?, column(&metric.column)?);
     let mut points = Vec::new();
     for (line, record) in reader.records().enumerate() {
         let record = record.with_context(|| format!("{}", path.display()))?;
@@ -142,15 +185,15 @@ fn read_run(dir: &Path) -> Result<Run> {
                 )
             })
         };
-        let (samples, eval) = (number(samples_at)?, number(eval_at)?);
-        if eval.is_finite() {
-            points.push((samples, eval));
+        if let Some(y) = metric.value(number(metric_at)?) {
+            points.push((number(samples_at)?, y));
         }
     }
     ensure!(
         !points.is_empty(),
-        "{}: no evaluated iteration",
-        path.display()
+        "{}: no iteration with a finite {}",
+        path.display(),
+        metric.label()
     );
     let name = |p: &Path| {
         p.file_name()
@@ -277,7 +320,11 @@ fn paper_lines(env: &str) -> Option<[(String, f64); 2]> {
 }
 
 pub fn run(args: &PlotArgs) -> Result<()> {
-    let runs = discover(&args.runs)?;
+    let metric = Metric {
+        column: args.metric.clone(),
+        log10: args.log10,
+    };
+    let runs = discover(&args.runs, &metric)?;
     let curves = curves(&runs, args.smooth, args.points)?;
     let mut envs: Vec<&str> = runs.iter().filter_map(|r| r.env.as_deref()).collect();
     envs.sort_unstable();
@@ -301,12 +348,14 @@ pub fn run(args: &PlotArgs) -> Result<()> {
             &curves,
             &hlines,
             &title,
+            &metric.label(),
         ),
         Some("svg") => draw(
             SVGBackend::new(&args.out, (960, 600)).into_drawing_area(),
             &curves,
             &hlines,
             &title,
+            &metric.label(),
         ),
         _ => bail!(
             "--out {}: the figure must end in .png or .svg",
@@ -321,11 +370,21 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         runs.len(),
         csv_path.display()
     );
+    let (lo, hi) = curves
+        .iter()
+        .flat_map(|c| &c.mean)
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &y| (lo.min(y), hi.max(y)));
+    // One decimal more than the axis: these are the numbers people copy into tables.
+    let value = |y: f64| format_value(y, (hi - lo) / 10.0);
     for c in &curves {
         let last = c.mean.len() - 1;
         println!(
-            "  {:30} {} seeds, at {:.0} samples: {:.1} ± {:.1}",
-            c.group, c.seeds, c.samples[last], c.mean[last], c.std[last]
+            "  {:30} {} seeds, at {:.0} samples: {} ± {}",
+            c.group,
+            c.seeds,
+            c.samples[last],
+            value(c.mean[last]),
+            value(c.std[last])
         );
     }
     Ok(())
@@ -363,6 +422,7 @@ fn draw<DB: DrawingBackend>(
     curves: &[Curve],
     hlines: &[(String, f64)],
     title: &str,
+    y_label: &str,
 ) -> Result<()>
 where
     DB::ErrorType: 'static,
@@ -379,7 +439,11 @@ where
         .flat_map(|c| c.mean.iter().zip(&c.std).flat_map(|(m, s)| [m - s, m + s]))
         .chain(hlines.iter().map(|h| h.1));
     let (y_min, y_max) = ys.fold((f64::MAX, f64::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
-    let pad = ((y_max - y_min) * 0.05).max(1.0);
+    let pad = if y_max > y_min {
+        (y_max - y_min) * 0.05
+    } else {
+        y_max.abs().max(1.0) * 0.05
+    };
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 26))
         .margin(16)
@@ -390,9 +454,9 @@ where
     chart
         .configure_mesh()
         .x_desc("samples")
-        .y_desc("dense evaluation return")
+        .y_desc(y_label)
         .x_label_formatter(&|x| format_samples(*x))
-        .y_label_formatter(&|y| format!("{y:.0}"))
+        .y_label_formatter(&|y| format_value(*y, y_max - y_min))
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
         .light_line_style(WHITE.mix(0.0))
@@ -468,6 +532,17 @@ fn format_samples(x: f64) -> String {
     }
 }
 
+/// A value with the decimals that tell ticks a tenth of `range` apart (returns: none).
+fn format_value(y: f64, range: f64) -> String {
+    let decimals = (1.0 - range.max(1e-12).log10().floor()).clamp(0.0, 8.0) as usize;
+    let text = format!("{y:.decimals$}");
+    // No "-0.00" on the axis.
+    match text.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => text,
+    }
+}
+
 fn trim(v: f64) -> String {
     let s = format!("{v:.2}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -516,6 +591,56 @@ mod tests {
             "hopper-logo-s0"
         );
         assert_eq!(group_of("seedling", Some("x".into())), "seedling");
+    }
+
+    #[test]
+    fn any_numeric_column_can_be_read_and_logged() {
+        let dir = std::env::temp_dir().join(format!("logo-plot-metric-{}", std::process::id()));
+        let run_dir = dir.join("arm").join("seed0");
+        std::fs::create_dir_all(&run_dir).unwrap();
+        std::fs::write(
+            run_dir.join("metrics.csv"),
+            "iteration,samples,eval_dense_return,guidance_kl,update_stop\n\
+             0,100,5.0,NaN,accepted\n\
+             1,200,NaN,0.01,accepted\n\
+             2,300,7.0,0.0,accepted\n\
+             3,400,8.0,1000.0,kl-limit\n",
+        )
+        .unwrap();
+        let read = |column: &str, log10| {
+            let metric = Metric {
+                column: column.into(),
+                log10,
+            };
+            discover(std::slice::from_ref(&dir), &metric)
+        };
+        let eval = read(EVAL_RETURN, false).unwrap();
+        assert_eq!(eval[0].group, "arm");
+        assert_eq!(
+            eval[0].points,
+            vec![(100.0, 5.0), (300.0, 7.0), (400.0, 8.0)]
+        );
+        // NaN and (in log space) zero are not drawn; the rest are log10'd exactly.
+        let kl = read("guidance_kl", true).unwrap();
+        assert_eq!(kl[0].points, vec![(200.0, -2.0), (400.0, 3.0)]);
+        let linear = read("guidance_kl", false).unwrap();
+        assert_eq!(linear[0].points.len(), 3);
+        let text = read("update_stop", false).unwrap_err().to_string();
+        assert!(
+            text.contains("row 1") && text.contains("accepted"),
+            "{text}"
+        );
+        let missing = format!("{:#}", read("critic_los", false).unwrap_err());
+        assert!(missing.contains("no column \"critic_los\""), "{missing}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn axis_values_get_the_decimals_their_range_needs() {
+        assert_eq!(format_value(2500.0, 3000.0), "2500");
+        assert_eq!(format_value(-0.4567, 0.5), "-0.46");
+        assert_eq!(format_value(0.0123, 0.02), "0.012");
+        assert_eq!(format_value(-0.0001, 0.5), "0.00");
     }
 
     #[test]

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use anyhow::{Result, ensure};
 use clap::Args;
 
-use crate::plot::{Run, discover, interpolate};
+use crate::plot::{Metric, Run, discover, interpolate};
 
 #[derive(Args)]
 pub struct SummaryArgs {
@@ -180,7 +180,7 @@ pub fn table(runs: &[Run], at: Option<f64>, threshold: Option<f64>) -> Result<St
 }
 
 pub fn run(args: &SummaryArgs) -> Result<()> {
-    let runs = discover(&args.runs)?;
+    let runs = discover(&args.runs, &Metric::eval_return())?;
     print!("{}", table(&runs, args.at, args.threshold)?);
     Ok(())
 }
