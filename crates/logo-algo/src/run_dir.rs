@@ -1,7 +1,11 @@
 //! A run's folder: `config.toml` (the config as run), `metrics.csv` (one row per
-//! iteration) and `checkpoint.safetensors` (networks plus the resume state).
+//! iteration), `checkpoint.safetensors` (networks plus the resume state) and `run.lock`,
+//! which the process training the run holds locked so that no second process (another
+//! sweep over the same folder, a requeued Slurm task whose first copy still runs)
+//! trains it at the same time and interleaves their files.
 
-use std::fs::{File, OpenOptions};
+use std::fs::{File, OpenOptions, TryLockError};
+use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
 use crate::config::TrainConfig;
@@ -12,6 +16,9 @@ pub type TrainError = Box<dyn std::error::Error + Send + Sync>;
 
 pub struct RunDir {
     path: PathBuf,
+    /// Held (locked) for as long as this value lives; the OS releases it when the
+    /// process ends, however it ends. None where the filesystem has no locks.
+    _lock: Option<File>,
 }
 
 /// `what` failed on `path`: the error with the path in it.
@@ -27,7 +34,7 @@ impl RunDir {
     /// config.
     pub fn create(path: &Path, config: &TrainConfig) -> Result<Self, TrainError> {
         std::fs::create_dir_all(path).map_err(|e| at(path, e))?;
-        let dir = Self::open(path);
+        let dir = Self::lock(path)?;
         if dir.checkpoint_path().exists() {
             return Err(format!(
                 "{} already holds a run (checkpoint.safetensors): continue it with --resume, \
@@ -44,11 +51,72 @@ impl RunDir {
         Ok(dir)
     }
 
-    /// An existing run's folder.
-    pub fn open(path: &Path) -> Self {
-        Self {
-            path: path.to_path_buf(),
+    /// An existing run's folder, to resume: it must hold a checkpoint, and no other
+    /// process may be training it (see [`RunDir::lock`]).
+    pub fn open(path: &Path) -> Result<Self, TrainError> {
+        let checkpoint = path.join("checkpoint.safetensors");
+        if !checkpoint.is_file() {
+            return Err(at(
+                &checkpoint,
+                "no such checkpoint: nothing to resume here",
+            ));
         }
+        Self::lock(path)
+    }
+
+    /// The folder `path`, locked for this process: refused while another process holds
+    /// it (the error names that process).
+    fn lock(path: &Path) -> Result<Self, TrainError> {
+        let lock_path = path.join("run.lock");
+        let mut lock = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&lock_path)
+            .map_err(|e| at(&lock_path, e))?;
+        match lock.try_lock() {
+            Ok(()) => {}
+            Err(TryLockError::WouldBlock) => {
+                let mut holder = String::new();
+                let _ = lock.read_to_string(&mut holder);
+                let holder = match holder.trim() {
+                    "" => "another process".to_string(),
+                    pid => format!("process {pid}"),
+                };
+                return Err(format!(
+                    "{} is being trained by {holder} (it holds {}); wait for it to end, or \
+                     stop it, before training this run",
+                    path.display(),
+                    lock_path.display()
+                )
+                .into());
+            }
+            // Some cluster filesystems are mounted without locks: train unguarded, and
+            // say so, rather than refuse every run there.
+            Err(TryLockError::Error(e)) if e.kind() == std::io::ErrorKind::Unsupported => {
+                eprintln!(
+                    "warning: {}: this filesystem has no file locks; nothing stops a second \
+                     process from training this run at the same time",
+                    lock_path.display()
+                );
+                return Ok(Self {
+                    path: path.to_path_buf(),
+                    _lock: None,
+                });
+            }
+            Err(TryLockError::Error(e)) => return Err(at(&lock_path, e)),
+        }
+        // The holder's pid, for the message a second process gets.
+        let pid = std::process::id();
+        lock.set_len(0)
+            .and_then(|()| lock.rewind())
+            .and_then(|()| writeln!(lock, "{pid}"))
+            .map_err(|e| at(&lock_path, e))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            _lock: Some(lock),
+        })
     }
 
     /// Removes `checkpoint.tmp.<pid>` files left by checkpoint writes that were killed
@@ -150,5 +218,40 @@ impl RunDir {
         }
         std::fs::rename(&tmp, &path).map_err(|e| at(&path, e))?;
         Ok(kept)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_folder_is_trained_by_one_process_at_a_time() {
+        let dir = std::env::temp_dir().join(format!("logo-run-lock-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let first = RunDir::lock(&dir).unwrap();
+        // A second open file description conflicts like a second process would.
+        let refused = RunDir::lock(&dir)
+            .err()
+            .expect("the folder is locked")
+            .to_string();
+        assert!(
+            refused.contains(&format!("process {}", std::process::id()))
+                && refused.contains("run.lock"),
+            "{refused}"
+        );
+        drop(first);
+        let again = RunDir::lock(&dir).expect("released when the holder is dropped");
+        drop(again);
+        // Resuming needs a checkpoint, and says so before it leaves a lock file behind.
+        let empty = dir.join("empty");
+        std::fs::create_dir_all(&empty).unwrap();
+        let missing = RunDir::open(&empty).err().unwrap().to_string();
+        assert!(
+            missing.contains("checkpoint.safetensors: no such checkpoint"),
+            "{missing}"
+        );
+        assert!(!empty.join("run.lock").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -292,7 +292,7 @@ impl<E: Engine> Trainer<E> {
         out_dir: &Path,
         iterations: Option<usize>,
     ) -> Result<Self, TrainError> {
-        let run = RunDir::open(out_dir);
+        let run = RunDir::open(out_dir)?;
         run.remove_stale_temporaries()?;
         let path = run.checkpoint_path();
         let ckpt = Checkpoint::load(&path)?;

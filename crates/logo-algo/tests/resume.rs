@@ -151,6 +151,7 @@ fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
     let mut trainer = Trainer::new(Kernels, config(&dir, true), &dir).unwrap();
     trainer.step().unwrap();
     trainer.step().unwrap();
+    drop(trainer); // its process ends: the folder is free to resume
     let path = dir.join("checkpoint.safetensors");
     let good = logo_nn::Checkpoint::load(&path).unwrap();
     // The checkpoint with one edit, saved over the run's; the error resuming it.
@@ -202,6 +203,7 @@ fn a_new_run_in_an_old_runs_folder_is_refused_and_stale_temporaries_go() {
     let mut trainer = Trainer::new(Kernels, config(&dir, false), &dir).unwrap();
     trainer.step().unwrap();
     trainer.step().unwrap(); // the checkpoint is written here
+    drop(trainer);
     let err = Trainer::new(Kernels, config(&dir, true), &dir)
         .err()
         .unwrap()

@@ -355,6 +355,46 @@ fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
 }
 
 #[test]
+fn a_run_folder_in_training_is_refused_to_a_second_process() {
+    let (dir, config) = tiny_run("locked");
+    let run = dir.join("run");
+    let (config, run_arg) = (config.to_str().unwrap(), run.to_str().unwrap());
+    let mut first = Command::new(env!("CARGO_BIN_EXE_logo"))
+        .args([
+            "train",
+            "--config",
+            config,
+            "--out",
+            run_arg,
+            "--iterations",
+            "100000",
+        ])
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // The first process writes its pid into the lock it holds.
+    let lock = run.join("run.lock");
+    let start = std::time::Instant::now();
+    while std::fs::read_to_string(&lock).map_or(true, |t| t.trim().is_empty()) {
+        assert!(start.elapsed().as_secs() < 60, "no lock after 60 s");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let second = logo(&["train", "--config", config, "--out", run_arg]);
+    let running = first.try_wait().unwrap().is_none();
+    first.kill().unwrap();
+    first.wait().unwrap();
+    assert!(running, "the first run ended before the second started");
+    let err = stderr_line(&second);
+    assert!(
+        err.contains(&format!("being trained by process {}", first.id())),
+        "{err}"
+    );
+    // The first run's files are untouched by the refused second: its config stands.
+    let stored = std::fs::read_to_string(run.join("config.toml")).unwrap();
+    assert!(stored.contains("iterations = 100000"), "{stored}");
+}
+
+#[test]
 fn inspect_works_on_every_shipped_dataset() {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data");
     let mut inspected = 0;
