@@ -21,6 +21,9 @@ pub struct RunDir {
     _lock: Option<File>,
 }
 
+/// The checkpoint's file name inside a run folder.
+const CHECKPOINT: &str = "checkpoint.safetensors";
+
 /// `what` failed on `path`: the error with the path in it.
 fn at(path: &Path, e: impl std::fmt::Display) -> TrainError {
     format!("{}: {e}", path.display()).into()
@@ -54,7 +57,7 @@ impl RunDir {
     /// An existing run's folder, to resume: it must hold a checkpoint, and no other
     /// process may be training it (see [`RunDir::lock`]).
     pub fn open(path: &Path) -> Result<Self, TrainError> {
-        let checkpoint = path.join("checkpoint.safetensors");
+        let checkpoint = path.join(CHECKPOINT);
         if !checkpoint.is_file() {
             return Err(at(
                 &checkpoint,
@@ -75,8 +78,8 @@ impl RunDir {
             .truncate(false)
             .open(&lock_path)
             .map_err(|e| at(&lock_path, e))?;
-        match lock.try_lock() {
-            Ok(()) => {}
+        let held = match lock.try_lock() {
+            Ok(()) => true,
             Err(TryLockError::WouldBlock) => {
                 let mut holder = String::new();
                 let _ = lock.read_to_string(&mut holder);
@@ -100,22 +103,21 @@ impl RunDir {
                      process from training this run at the same time",
                     lock_path.display()
                 );
-                return Ok(Self {
-                    path: path.to_path_buf(),
-                    _lock: None,
-                });
+                false
             }
             Err(TryLockError::Error(e)) => return Err(at(&lock_path, e)),
+        };
+        if held {
+            // The holder's pid, for the message a second process gets.
+            let pid = std::process::id();
+            lock.set_len(0)
+                .and_then(|()| lock.rewind())
+                .and_then(|()| writeln!(lock, "{pid}"))
+                .map_err(|e| at(&lock_path, e))?;
         }
-        // The holder's pid, for the message a second process gets.
-        let pid = std::process::id();
-        lock.set_len(0)
-            .and_then(|()| lock.rewind())
-            .and_then(|()| writeln!(lock, "{pid}"))
-            .map_err(|e| at(&lock_path, e))?;
         Ok(Self {
             path: path.to_path_buf(),
-            _lock: Some(lock),
+            _lock: held.then_some(lock),
         })
     }
 
@@ -139,7 +141,7 @@ impl RunDir {
     }
 
     pub fn checkpoint_path(&self) -> PathBuf {
-        self.path.join("checkpoint.safetensors")
+        self.path.join(CHECKPOINT)
     }
 
     pub fn metrics_path(&self) -> PathBuf {
