@@ -49,6 +49,33 @@ pub struct PlotArgs {
     /// Draw log10 of the metric (seeds are averaged in log space); values ≤ 0 are skipped.
     #[arg(long)]
     log10: bool,
+    /// Draw each run only up to this many samples, to compare runs of different lengths
+    /// at an equal budget (e.g. 1e6 or 1000000).
+    #[arg(long, value_parser = parse_max_samples)]
+    max_samples: Option<f64>,
+}
+
+fn parse_max_samples(text: &str) -> std::result::Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(n) if n.is_finite() && n > 0.0 => Ok(n),
+        _ => Err(format!(
+            "expected a positive number of samples, got {text:?}"
+        )),
+    }
+}
+
+/// Keeps each run's evaluations at or below `max_samples`; an error names a group whose
+/// run has none there.
+pub fn up_to(runs: &mut [Run], max_samples: f64) -> Result<()> {
+    for run in runs {
+        run.points.retain(|p| p.0 <= max_samples);
+        ensure!(
+            !run.points.is_empty(),
+            "--max-samples {max_samples}: a run of {} has no evaluation at or below it",
+            run.group
+        );
+    }
+    Ok(())
 }
 
 /// The column `logo plot` and `logo summary` read by default.
@@ -324,7 +351,10 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         column: args.metric.clone(),
         log10: args.log10,
     };
-    let runs = discover(&args.runs, &metric)?;
+    let mut runs = discover(&args.runs, &metric)?;
+    if let Some(max_samples) = args.max_samples {
+        up_to(&mut runs, max_samples)?;
+    }
     let curves = curves(&runs, args.smooth, args.points)?;
     let mut envs: Vec<&str> = runs.iter().filter_map(|r| r.env.as_deref()).collect();
     envs.sort_unstable();
@@ -599,6 +629,22 @@ mod tests {
         }
         assert_eq!(c[1].mean, vec![5.0; 5]);
         assert_eq!(c[1].std, vec![0.0; 5]);
+    }
+
+    #[test]
+    fn max_samples_cuts_every_run_and_refuses_an_emptied_one() {
+        let mut runs = [
+            run("long", &[(0.0, 1.0), (10.0, 2.0), (20.0, 3.0)]),
+            run("short", &[(0.0, 1.0), (9.0, 2.0)]),
+        ];
+        up_to(&mut runs, 10.0).unwrap();
+        assert_eq!(runs[0].points, vec![(0.0, 1.0), (10.0, 2.0)]);
+        assert_eq!(runs[1].points, vec![(0.0, 1.0), (9.0, 2.0)]);
+        let mut late = [run("late", &[(5.0, 1.0)])];
+        let e = up_to(&mut late, 4.0).unwrap_err().to_string();
+        assert!(e.contains("late") && e.contains("--max-samples"), "{e}");
+        assert!(parse_max_samples("1e6").is_ok());
+        assert!(parse_max_samples("0").is_err() && parse_max_samples("x").is_err());
     }
 
     #[test]
