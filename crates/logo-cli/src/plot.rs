@@ -55,7 +55,7 @@ pub struct PlotArgs {
     max_samples: Option<f64>,
 }
 
-fn parse_max_samples(text: &str) -> std::result::Result<f64, String> {
+pub(crate) fn parse_max_samples(text: &str) -> std::result::Result<f64, String> {
     match text.parse::<f64>() {
         Ok(n) if n.is_finite() && n > 0.0 => Ok(n),
         _ => Err(format!(

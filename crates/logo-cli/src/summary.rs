@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use anyhow::{Result, ensure};
 use clap::Args;
 
-use crate::plot::{Metric, Run, discover, interpolate};
+use crate::plot::{Metric, Run, discover, interpolate, parse_max_samples, up_to};
 
 #[derive(Args)]
 pub struct SummaryArgs {
@@ -24,6 +24,9 @@ pub struct SummaryArgs {
     /// first needed (median over those seeds).
     #[arg(long)]
     threshold: Option<f64>,
+    /// Read each run only up to this many samples, as `logo plot --max-samples`.
+    #[arg(long, value_parser = parse_max_samples)]
+    max_samples: Option<f64>,
 }
 
 /// What one run's evaluations say.
@@ -180,7 +183,10 @@ pub fn table(runs: &[Run], at: Option<f64>, threshold: Option<f64>) -> Result<St
 }
 
 pub fn run(args: &SummaryArgs) -> Result<()> {
-    let runs = discover(&args.runs, &Metric::eval_return())?;
+    let mut runs = discover(&args.runs, &Metric::eval_return())?;
+    if let Some(max_samples) = args.max_samples {
+        up_to(&mut runs, max_samples)?;
+    }
     print!("{}", table(&runs, args.at, args.threshold)?);
     Ok(())
 }
