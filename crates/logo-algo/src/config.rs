@@ -286,8 +286,15 @@ impl TrainConfig {
         {
             notes.push(format!("guidance {}", update.kind()));
         }
-        if self.critic.num_nets() == 2 {
-            notes.push("twin-min critics".into());
+        let guidance_twin = self.guidance_critic().is_some_and(|c| c.num_nets() == 2);
+        match (self.critic.num_nets() == 2, guidance_twin) {
+            (true, true) => notes.push("twin-min critics".into()),
+            (true, false) if self.guidance.is_some() => {
+                notes.push("twin-min env critic".into());
+            }
+            (true, false) => notes.push("twin-min critic".into()),
+            (false, true) => notes.push("twin-min guidance critic".into()),
+            (false, false) => {}
         }
         if !notes.is_empty() {
             name += &format!(" ({})", notes.join(", "));

@@ -144,3 +144,20 @@ fn sizes_past_what_a_machine_holds_are_refused_naming_the_key() {
         );
     }
 }
+
+/// The name a run prints and records says which of its critics are twin-min.
+#[test]
+fn algorithm_names_say_which_critics_are_twin() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+    let name = |path: &str| TrainConfig::load(&root.join(path)).unwrap().algorithm();
+    assert_eq!(name("logo/hopper.toml"), "LOGO");
+    assert_eq!(name("logo-cdq/hopper.toml"), "LOGO (twin-min critics)");
+    assert_eq!(
+        name("experiments/hopper_cdq_env_critic_only.toml"),
+        "LOGO (twin-min env critic)"
+    );
+    assert_eq!(
+        name("logo-ppo-penalty/hopper.toml"),
+        "LOGO+PPO-CLIP (guidance ppo-penalty)"
+    );
+}
