@@ -157,6 +157,10 @@ fn algorithm_names_say_which_critics_are_twin() {
         "LOGO (twin-min env critic)"
     );
     assert_eq!(
+        name("experiments/hopper_cdq_guidance_critic_only.toml"),
+        "LOGO (twin-min guidance critic)"
+    );
+    assert_eq!(
         name("logo-ppo-penalty/hopper.toml"),
         "LOGO+PPO-CLIP (guidance ppo-penalty)"
     );
