@@ -49,6 +49,12 @@ pub struct TrainConfig {
     /// The reference's GAE across time-limit boundaries (see `gae.rs`).
     #[serde(default)]
     pub cross_episode_bootstrap: bool,
+    /// Skip the improvement step on a batch without any env reward. Its advantages are
+    /// then GAE over the env critic's residual values, scaled to unit variance by the
+    /// per-batch normalisation: critic noise taken at the full KL bound. Off by default,
+    /// as in the reference (docs/results.md, issue 13's CDQ follow-up).
+    #[serde(default)]
+    pub skip_improvement_without_reward: bool,
     #[serde(default = "default_one")]
     pub eval_every: usize,
     #[serde(default = "default_eval_steps")]

@@ -35,7 +35,7 @@ use crate::critic::{CriticConfig, CriticSet};
 use crate::gae::{GaeInput, gae, normalise};
 use crate::guidance::{DeltaSchedule, DiscriminatorTrainer, behaviour_rewards};
 use crate::metrics::IterationMetrics;
-use crate::policy_update::{PolicyUpdateConfig, StepBatch, UpdateState};
+use crate::policy_update::{PolicyUpdateConfig, StepBatch, StopReason, UpdateState, UpdateStats};
 use crate::rollout::{Batch, Sampler};
 pub use crate::run_dir::{RunDir, TrainError};
 
@@ -611,6 +611,8 @@ impl<E: Engine> Trainer<E> {
         self.iteration += 1;
         self.samples += batch.len();
         let evaluate_now = k.is_multiple_of(config.eval_every) || self.done();
+        let rewardless =
+            config.skip_improvement_without_reward && batch.rewards.iter().all(|&r| r == 0.0);
         let (policy, improvement, guidance, eval_env) = (
             &mut self.policy,
             &mut self.improvement,
@@ -631,22 +633,30 @@ impl<E: Engine> Trainer<E> {
                 let mut clock = Stopwatch::start();
                 let mut row = IterationMetrics::default();
 
-                // 4. Improvement step: π_k → π_{k+½}, KL ≈ δ.
-                let (next, stats) = config.improvement.update(
-                    engine,
-                    policy,
-                    &data,
-                    config.max_kl,
-                    improvement,
-                    &mut update_rng(config.seed, k, 0),
-                );
-                *policy = next;
-                finite(
-                    stats.is_finite() && policy.is_finite(engine),
-                    "the improvement step",
-                    "policy's parameters or outputs",
-                )?;
-                row.improvement(&stats);
+                // 4. Improvement step: π_k → π_{k+½}, KL ≈ δ (or none, if asked, on a
+                //    batch without env reward).
+                if rewardless {
+                    row.improvement(&UpdateStats {
+                        stop: StopReason::NoReward,
+                        ..UpdateStats::default()
+                    });
+                } else {
+                    let (next, stats) = config.improvement.update(
+                        engine,
+                        policy,
+                        &data,
+                        config.max_kl,
+                        improvement,
+                        &mut update_rng(config.seed, k, 0),
+                    );
+                    *policy = next;
+                    finite(
+                        stats.is_finite() && policy.is_finite(engine),
+                        "the improvement step",
+                        "policy's parameters or outputs",
+                    )?;
+                    row.improvement(&stats);
+                }
                 row.t_policy_step = clock.lap();
 
                 // 5. Guidance step on the same batch: π_{k+½} → π_{k+1}, KL ≈ δ_k, the

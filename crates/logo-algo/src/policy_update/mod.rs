@@ -95,6 +95,8 @@ pub enum StopReason {
     KlBound,
     /// A first-order kind ran all its epochs.
     MaxEpochs,
+    /// Not run: the batch held no env reward (`skip_improvement_without_reward`).
+    NoReward,
 }
 
 /// What an update did, for `metrics.csv`.
