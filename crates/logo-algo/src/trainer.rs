@@ -111,6 +111,23 @@ fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError> {
     }
 }
 
+/// Takes a policy step's result as the policy; an error names `step` if the step or the
+/// new policy holds a non-finite number.
+fn take_step<E: Engine>(
+    engine: &E,
+    policy: &mut Policy<E>,
+    (next, stats): (Policy<E>, UpdateStats),
+    step: &str,
+) -> Result<UpdateStats, TrainError> {
+    *policy = next;
+    finite(
+        stats.is_finite() && policy.is_finite(engine),
+        step,
+        "policy's parameters or outputs",
+    )?;
+    Ok(stats)
+}
+
 /// From `from_iteration` on (until the next span), the run trained on `engine`.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EngineSpan {
@@ -641,7 +658,7 @@ impl<E: Engine> Trainer<E> {
                         ..UpdateStats::default()
                     });
                 } else {
-                    let (next, stats) = config.improvement.update(
+                    let step = config.improvement.update(
                         engine,
                         policy,
                         &data,
@@ -649,12 +666,7 @@ impl<E: Engine> Trainer<E> {
                         improvement,
                         &mut update_rng(config.seed, k, 0),
                     );
-                    *policy = next;
-                    finite(
-                        stats.is_finite() && policy.is_finite(engine),
-                        "the improvement step",
-                        "policy's parameters or outputs",
-                    )?;
+                    let stats = take_step(engine, policy, step, "the improvement step")?;
                     row.improvement(&stats);
                 }
                 row.t_policy_step = clock.lap();
@@ -664,7 +676,7 @@ impl<E: Engine> Trainer<E> {
                 let mut guidance_stats = None;
                 if let (Some(g), Some(adv)) = (guidance.as_mut(), &guidance_advantages) {
                     let advantages = engine.upload(&adv.normalised, [data.rows]);
-                    let (next, stats) = g.update.update(
+                    let step = g.update.update(
                         engine,
                         policy,
                         &data.with_advantages(advantages),
@@ -672,13 +684,7 @@ impl<E: Engine> Trainer<E> {
                         &mut g.state,
                         &mut update_rng(config.seed, k, 1),
                     );
-                    *policy = next;
-                    finite(
-                        stats.is_finite() && policy.is_finite(engine),
-                        "the guidance step",
-                        "policy's parameters or outputs",
-                    )?;
-                    guidance_stats = Some(stats);
+                    guidance_stats = Some(take_step(engine, policy, step, "the guidance step")?);
                 }
                 row.guidance(guidance_stats.as_ref());
                 row.t_guidance = clock.lap();
