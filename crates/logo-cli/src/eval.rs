@@ -109,28 +109,116 @@ pub fn run(args: &EvalArgs) -> Result<()> {
             meta.obs_dim,
             meta.act_dim
         );
-        let mut obs = vec![0.0; spec.obs_dim];
-        let (mut returns, mut dense, mut lengths) = (Vec::new(), Vec::new(), Vec::new());
+        let mut episodes = EpisodeStats::default();
         for episode in 0..args.episodes {
-            env.reset(Some(args.seed + episode as u64), &mut obs);
-            let (mut r, mut d, mut n) = (0.0, 0.0, 0.0);
-            loop {
-                let action = acting.mean(&obs);
-                let step = env.step(&action, &mut obs)?;
-                (r, d, n) = (r + step.reward, d + step.info.dense_reward, n + 1.0);
-                if step.done() {
-                    break;
-                }
-            }
-            returns.push(r);
-            dense.push(d);
-            lengths.push(n);
+            let seed = args.seed + episode as u64;
+            episodes.push(run_episode(env.as_mut(), seed, |obs| acting.mean(obs))?);
         }
-        let ((rm, rs), (dm, ds), (lm, _)) =
-            (mean_std(&returns), mean_std(&dense), mean_std(&lengths));
-        println!(
-            "{id:32} return {rm:10.2} ± {rs:8.2} | dense return {dm:10.2} ± {ds:8.2} | length {lm:.0}"
-        );
+        println!("{id:32} {}", episodes.line());
     }
     Ok(())
+}
+
+/// One episode's totals.
+#[derive(Debug)]
+struct Episode {
+    return_: f64,
+    dense_return: f64,
+    length: f64,
+    /// `qpos[0]` at the end minus at the start.
+    moved: f64,
+    /// Root mean square over every action component of every step.
+    action_rms: f64,
+}
+
+/// Runs one episode from `reset(seed)` to its end, acting with `act`.
+fn run_episode(
+    env: &mut dyn Env,
+    seed: u64,
+    mut act: impl FnMut(&[f64]) -> Vec<f64>,
+) -> Result<Episode> {
+    let mut obs = vec![0.0; env.spec().obs_dim];
+    env.reset(Some(seed), &mut obs);
+    let x_start = env.x_position();
+    let (mut return_, mut dense_return, mut length, mut squared_action) = (0.0, 0.0, 0.0, 0.0);
+    loop {
+        let action = act(&obs);
+        squared_action += action.iter().map(|a| a * a).sum::<f64>();
+        let step = env.step(&action, &mut obs)?;
+        return_ += step.reward;
+        dense_return += step.info.dense_reward;
+        length += 1.0;
+        if step.done() {
+            break;
+        }
+    }
+    let components = length * env.spec().act_dim as f64;
+    Ok(Episode {
+        return_,
+        dense_return,
+        length,
+        moved: env.x_position() - x_start,
+        action_rms: (squared_action / components).sqrt(),
+    })
+}
+
+/// Per-episode numbers of one env's evaluation. Beside the returns: how far `qpos[0]`
+/// moved (forward distance for the locomotion envs, the cart for IDP) and the RMS of the
+/// action components. The dense locomotion rewards charge the control cost on the action
+/// as given, while MuJoCo clamps it to the actuator range (±1 for these envs), so an RMS
+/// well above 1 explains a negative dense return from a policy that does move forward.
+#[derive(Default)]
+struct EpisodeStats {
+    returns: Vec<f64>,
+    dense: Vec<f64>,
+    lengths: Vec<f64>,
+    moved: Vec<f64>,
+    action_rms: Vec<f64>,
+}
+
+impl EpisodeStats {
+    fn push(&mut self, episode: Episode) {
+        self.returns.push(episode.return_);
+        self.dense.push(episode.dense_return);
+        self.lengths.push(episode.length);
+        self.moved.push(episode.moved);
+        self.action_rms.push(episode.action_rms);
+    }
+
+    fn line(&self) -> String {
+        let (rm, rs) = mean_std(&self.returns);
+        let (dm, ds) = mean_std(&self.dense);
+        let (lm, _) = mean_std(&self.lengths);
+        let (xm, xs) = mean_std(&self.moved);
+        let (am, _) = mean_std(&self.action_rms);
+        format!(
+            "return {rm:10.2} ± {rs:8.2} | dense return {dm:10.2} ± {ds:8.2} | length {lm:.0} \
+             | x moved {xm:8.2} ± {xs:6.2} | action RMS {am:.2}"
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A constant action of 2 on HalfCheetah (actuator range ±1): the RMS says 2, and the
+    /// dense return is the distance over dt minus 0.1·‖a‖² per step on the unclamped
+    /// action (6 × 4 × 0.1 = 2.4 per step), which is what makes it negative.
+    #[test]
+    fn an_episode_reports_distance_and_the_unclamped_action_size() {
+        let mut env = EnvFactory::new("SparseHalfCheetah-v4", &EnvOptions::default())
+            .unwrap()
+            .build();
+        let episode = run_episode(env.as_mut(), 0, |_| vec![2.0; 6]).unwrap();
+        assert_eq!(episode.length, 1000.0);
+        assert!((episode.action_rms - 2.0).abs() < 1e-12, "{episode:?}");
+        let dt = 0.05;
+        let expected = episode.moved / dt - 2.4 * episode.length;
+        assert!(
+            (episode.dense_return - expected).abs() < 1e-6 * expected.abs(),
+            "{episode:?}, expected dense {expected}"
+        );
+        assert!(episode.dense_return < 0.0, "{episode:?}");
+    }
 }
