@@ -10,7 +10,7 @@ use logo_nn::{
 };
 
 use crate::engine::{EngineArgs, WithEngine};
-use crate::rollout::mean_std;
+use crate::rollout::{Episode, mean_std, run_episode};
 
 #[derive(Args)]
 pub struct EvalArgs {
@@ -109,93 +109,30 @@ pub fn run(args: &EvalArgs) -> Result<()> {
             meta.obs_dim,
             meta.act_dim
         );
-        let mut episodes = EpisodeStats::default();
-        for episode in 0..args.episodes {
-            let seed = args.seed + episode as u64;
-            episodes.push(run_episode(env.as_mut(), seed, |obs| acting.mean(obs))?);
-        }
-        println!("{id:32} {}", episodes.line());
+        let episodes = (0..args.episodes as u64)
+            .map(|episode| run_episode(env.as_mut(), args.seed + episode, |obs| acting.mean(obs)))
+            .collect::<Result<Vec<_>>>()?;
+        println!("{id:32} {}", summary(&episodes));
     }
     Ok(())
 }
 
-/// One episode's totals.
-#[derive(Debug)]
-struct Episode {
-    return_: f64,
-    dense_return: f64,
-    length: f64,
-    /// `qpos[0]` at the end minus at the start.
-    moved: f64,
-    /// Root mean square over every action component of every step.
-    action_rms: f64,
-}
-
-/// Runs one episode from `reset(seed)` to its end, acting with `act`.
-fn run_episode(
-    env: &mut dyn Env,
-    seed: u64,
-    mut act: impl FnMut(&[f64]) -> Vec<f64>,
-) -> Result<Episode> {
-    let mut obs = vec![0.0; env.spec().obs_dim];
-    env.reset(Some(seed), &mut obs);
-    let x_start = env.x_position();
-    let (mut return_, mut dense_return, mut length, mut squared_action) = (0.0, 0.0, 0.0, 0.0);
-    loop {
-        let action = act(&obs);
-        squared_action += action.iter().map(|a| a * a).sum::<f64>();
-        let step = env.step(&action, &mut obs)?;
-        return_ += step.reward;
-        dense_return += step.info.dense_reward;
-        length += 1.0;
-        if step.done() {
-            break;
-        }
-    }
-    let components = length * env.spec().act_dim as f64;
-    Ok(Episode {
-        return_,
-        dense_return,
-        length,
-        moved: env.x_position() - x_start,
-        action_rms: (squared_action / components).sqrt(),
-    })
-}
-
-/// Per-episode numbers of one env's evaluation. Beside the returns: how far `qpos[0]`
-/// moved (forward distance for the locomotion envs, the cart for IDP) and the RMS of the
-/// action components. The dense locomotion rewards charge the control cost on the action
-/// as given, while MuJoCo clamps it to the actuator range (±1 for these envs), so an RMS
-/// well above 1 explains a negative dense return from a policy that does move forward.
-#[derive(Default)]
-struct EpisodeStats {
-    returns: Vec<f64>,
-    dense: Vec<f64>,
-    lengths: Vec<f64>,
-    moved: Vec<f64>,
-    action_rms: Vec<f64>,
-}
-
-impl EpisodeStats {
-    fn push(&mut self, episode: Episode) {
-        self.returns.push(episode.return_);
-        self.dense.push(episode.dense_return);
-        self.lengths.push(episode.length);
-        self.moved.push(episode.moved);
-        self.action_rms.push(episode.action_rms);
-    }
-
-    fn line(&self) -> String {
-        let (rm, rs) = mean_std(&self.returns);
-        let (dm, ds) = mean_std(&self.dense);
-        let (lm, _) = mean_std(&self.lengths);
-        let (xm, xs) = mean_std(&self.moved);
-        let (am, _) = mean_std(&self.action_rms);
-        format!(
-            "return {rm:10.2} ± {rs:8.2} | dense return {dm:10.2} ± {ds:8.2} | length {lm:.0} \
-             | x moved {xm:8.2} ± {xs:6.2} | action RMS {am:.2}"
-        )
-    }
+/// One line for an env's evaluation: mean ± std over episodes of the returns and of how
+/// far `qpos[0]` moved, the mean length and the mean action RMS. The dense locomotion
+/// rewards charge the control cost on the action as given, while MuJoCo clamps it to the
+/// actuator range (±1 for these envs), so an RMS well above 1 explains a negative dense
+/// return from a policy that does move forward.
+fn summary(episodes: &[Episode]) -> String {
+    let stat = |of: fn(&Episode) -> f64| mean_std(&episodes.iter().map(of).collect::<Vec<_>>());
+    let (rm, rs) = stat(|e| e.return_);
+    let (dm, ds) = stat(|e| e.dense_return);
+    let (lm, _) = stat(|e| e.length as f64);
+    let (xm, xs) = stat(|e| e.moved);
+    let (am, _) = stat(|e| e.action_rms);
+    format!(
+        "return {rm:10.2} ± {rs:8.2} | dense return {dm:10.2} ± {ds:8.2} | length {lm:.0} \
+         | x moved {xm:8.2} ± {xs:6.2} | action RMS {am:.2}"
+    )
 }
 
 #[cfg(test)]
@@ -211,10 +148,10 @@ mod tests {
             .unwrap()
             .build();
         let episode = run_episode(env.as_mut(), 0, |_| vec![2.0; 6]).unwrap();
-        assert_eq!(episode.length, 1000.0);
+        assert_eq!(episode.length, 1000);
         assert!((episode.action_rms - 2.0).abs() < 1e-12, "{episode:?}");
         let dt = 0.05;
-        let expected = episode.moved / dt - 2.4 * episode.length;
+        let expected = episode.moved / dt - 2.4 * episode.length as f64;
         assert!(
             (episode.dense_return - expected).abs() < 1e-6 * expected.abs(),
             "{episode:?}, expected dense {expected}"
