@@ -48,6 +48,23 @@ fn accepted(dataset: &Dataset, path: &Path) -> Result<(), TestCaseError> {
 proptest! {
     #![proptest_config(config())]
 
+    /// The header length a preamble declares, whatever it is, must be checked against the
+    /// file before anything is allocated for it (a 4 GiB length once aborted the process).
+    #[test]
+    fn npy_header_lengths(version in 1u8..=3, length in any::<u32>(), tail in 0usize..300) {
+        let mut bytes = b"\x93NUMPY".to_vec();
+        bytes.extend([version, 0]);
+        match version {
+            1 => bytes.extend((length as u16).to_le_bytes()),
+            _ => bytes.extend(length.to_le_bytes()),
+        }
+        bytes.extend(std::iter::repeat_n(b' ', tail));
+        let dir = scratch("npy-header");
+        let path = dir.join("header.npy");
+        std::fs::write(&path, &bytes).unwrap();
+        prop_assert!(no_panic("read_npy", || read_npy(&path))?.is_err());
+    }
+
     #[test]
     fn npy_files(mutations in prop::collection::vec(mutation(), 1..4)) {
         let dir = scratch("npy");

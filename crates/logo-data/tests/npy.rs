@@ -103,6 +103,17 @@ fn bad_files_are_errors_naming_the_problem() {
     std::fs::write(&path, &huge).unwrap();
     let err = read_npy(&path).unwrap_err().to_string();
     assert!(err.contains("overflows"), "{err}");
+    // A header length past the end of the file is an error before anything is allocated
+    // for it (a version-2 preamble declaring 4 GiB used to abort the process).
+    let mut long = b"\x93NUMPY\x02\x00".to_vec();
+    long.extend(0xFFFF_FFF0u32.to_le_bytes());
+    long.extend(b"{'descr': '<f8'");
+    std::fs::write(&path, &long).unwrap();
+    let err = read_npy(&path).unwrap_err().to_string();
+    assert!(
+        err.contains("d.npy") && err.contains("declares 4294967280 bytes, past the end"),
+        "{err}"
+    );
     // Every truncation is an error, never a panic.
     for n in 0..good.len() {
         std::fs::write(&path, &good[..n]).unwrap();
