@@ -33,7 +33,7 @@ pub struct PlotArgs {
     #[arg(long = "hline", value_parser = parse_hline)]
     hlines: Vec<(String, f64)>,
     /// Add the LOGO paper's behaviour and expert levels for the runs' environment
-    /// (LOGO-FACTS.md: Figure 1's dashed lines).
+    /// (docs/reference.md: Figure 1's dashed lines).
     #[arg(long)]
     paper_lines: bool,
     /// The title (default: the runs' training environment).
@@ -53,6 +53,130 @@ pub struct PlotArgs {
     /// at an equal budget (e.g. 1e6 or 1000000).
     #[arg(long, value_parser = parse_max_samples)]
     max_samples: Option<f64>,
+    /// An outside curve drawn over the runs' bands: CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]
+    /// (e.g. a published curve: docs/results/reference-curves/). Empty fields are
+    /// skipped; --smooth and --max-samples apply to it too. Repeatable.
+    #[arg(long = "external", value_parser = parse_external)]
+    externals: Vec<ExternalSpec>,
+}
+
+/// Where an outside curve comes from (`--external`).
+#[derive(Debug, Clone)]
+pub struct ExternalSpec {
+    pub path: PathBuf,
+    pub samples: String,
+    pub value: String,
+    pub label: String,
+}
+
+fn parse_external(text: &str) -> std::result::Result<ExternalSpec, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [path, samples, value, rest @ ..] = parts.as_slice() else {
+        return Err(format!(
+            "{text:?}: expected CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]"
+        ));
+    };
+    if rest.len() > 1 || [path, samples, value].iter().any(|p| p.is_empty()) {
+        return Err(format!(
+            "{text:?}: expected CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]"
+        ));
+    }
+    let path = PathBuf::from(path);
+    let label = match rest.first() {
+        Some(label) if !label.is_empty() => label.to_string(),
+        _ => path
+            .file_stem()
+            .map_or("external".into(), |s| s.to_string_lossy().into_owned()),
+    };
+    Ok(ExternalSpec {
+        path,
+        samples: samples.to_string(),
+        value: value.to_string(),
+        label,
+    })
+}
+
+/// An outside curve: (samples, value) in the file's order, rows with an empty field
+/// left out. A missing column, a field that is not a number, or no row at all is an
+/// error naming the file (and the row).
+pub fn read_external(spec: &ExternalSpec) -> Result<Vec<(f64, f64)>> {
+    let path = &spec.path;
+    let mut reader =
+        csv::Reader::from_path(path).with_context(|| format!("--external {}", path.display()))?;
+    let headers = reader
+        .headers()
+        .with_context(|| format!("--external {}", path.display()))?
+        .clone();
+    let column = |name: &str| {
+        headers.iter().position(|h| h == name).with_context(|| {
+            format!(
+                "--external {}: no column {name:?} (the columns are {})",
+                path.display(),
+                headers.iter().collect::<Vec<_>>().join(", ")
+            )
+        })
+    };
+    let (xs, ys) = (column(&spec.samples)?, column(&spec.value)?);
+    let mut points = Vec::new();
+    for (row, record) in reader.records().enumerate() {
+        let record = record.with_context(|| format!("--external {}", path.display()))?;
+        let field = |at: usize| -> Result<Option<f64>> {
+            let text = record.get(at).unwrap_or("").trim();
+            if text.is_empty() {
+                return Ok(None);
+            }
+            match text.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(Some(v)),
+                _ => bail!(
+                    "--external {}: row {}, column {:?}: {text:?} is not a finite number",
+                    path.display(),
+                    row + 1,
+                    &headers[at]
+                ),
+            }
+        };
+        if let (Some(x), Some(y)) = (field(xs)?, field(ys)?) {
+            points.push((x, y));
+        }
+    }
+    ensure!(
+        !points.is_empty(),
+        "--external {}: no row with both {:?} and {:?}",
+        path.display(),
+        spec.samples,
+        spec.value
+    );
+    Ok(points)
+}
+
+/// `--external` curves as single-seed [`Curve`]s at their own samples.
+fn external_curves(
+    specs: &[ExternalSpec],
+    window: usize,
+    max_samples: Option<f64>,
+) -> Result<Vec<Curve>> {
+    specs
+        .iter()
+        .map(|spec| {
+            let mut points = read_external(spec)?;
+            if let Some(max) = max_samples {
+                points.retain(|p| p.0 <= max);
+                ensure!(
+                    !points.is_empty(),
+                    "--external {}: no row at or below --max-samples {max}",
+                    spec.path.display()
+                );
+            }
+            let mean = smooth(&points.iter().map(|p| p.1).collect::<Vec<_>>(), window);
+            Ok(Curve {
+                group: spec.label.clone(),
+                samples: points.iter().map(|p| p.0).collect(),
+                std: vec![0.0; mean.len()],
+                mean,
+                seeds: 1,
+            })
+        })
+        .collect()
 }
 
 pub(crate) fn parse_max_samples(text: &str) -> std::result::Result<f64, String> {
@@ -330,7 +454,7 @@ pub fn curves(runs: &[Run], window: usize, points: usize) -> Result<Vec<Curve>> 
     Ok(out)
 }
 
-/// The LOGO paper's behaviour and expert levels (LOGO-FACTS.md, Figure 1) by env.
+/// The LOGO paper's behaviour and expert levels (docs/reference.md, Figure 1) by env.
 fn paper_lines(env: &str) -> Option<[(String, f64); 2]> {
     let name = env.strip_prefix("Sparse").unwrap_or(env);
     let (behaviour, expert) = match name.split('-').next()? {
@@ -370,12 +494,14 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         );
     }
     let title = args.title.clone().unwrap_or_else(|| envs.join(", "));
+    let externals = external_curves(&args.externals, args.smooth, args.max_samples)?;
     let csv_path = args.out.with_extension("csv");
-    write_csv(&csv_path, &curves)?;
+    write_csv(&csv_path, curves.iter().chain(&externals))?;
     match args.out.extension().and_then(|e| e.to_str()) {
         Some("png") => draw(
             BitMapBackend::new(&args.out, (960, 600)).into_drawing_area(),
             &curves,
+            &externals,
             &hlines,
             &title,
             &metric.label(),
@@ -383,6 +509,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         Some("svg") => draw(
             SVGBackend::new(&args.out, (960, 600)).into_drawing_area(),
             &curves,
+            &externals,
             &hlines,
             &title,
             &metric.label(),
@@ -394,10 +521,14 @@ pub fn run(args: &PlotArgs) -> Result<()> {
     }
     .with_context(|| format!("drawing {}", args.out.display()))?;
     println!(
-        "{}: {} curves from {} runs; data in {}",
+        "{}: {} curves from {} runs{}; data in {}",
         args.out.display(),
         curves.len(),
         runs.len(),
+        match externals.len() {
+            0 => String::new(),
+            n => format!(" and {n} external"),
+        },
         csv_path.display()
     );
     let (lo, hi) = curves
@@ -420,7 +551,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
     Ok(())
 }
 
-fn write_csv(path: &Path, curves: &[Curve]) -> Result<()> {
+fn write_csv<'a>(path: &Path, curves: impl IntoIterator<Item = &'a Curve>) -> Result<()> {
     let mut w = csv::Writer::from_path(path).with_context(|| format!("{}", path.display()))?;
     w.write_record(["config", "samples", "mean", "std", "seeds"])?;
     for c in curves {
@@ -450,6 +581,7 @@ fn register_font() {
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
     curves: &[Curve],
+    externals: &[Curve],
     hlines: &[(String, f64)],
     title: &str,
     y_label: &str,
@@ -462,10 +594,12 @@ where
     root.fill(&WHITE).map_err(err)?;
     let x_max = curves
         .iter()
+        .chain(externals)
         .map(|c| *c.samples.last().expect("a curve has points"))
         .fold(1.0, f64::max);
     let ys = curves
         .iter()
+        .chain(externals)
         .flat_map(|c| c.mean.iter().zip(&c.std).flat_map(|(m, s)| [m - s, m + s]))
         .chain(hlines.iter().map(|h| h.1));
     let (y_min, y_max) = ys.fold((f64::MAX, f64::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
@@ -521,6 +655,18 @@ where
             .map_err(err)?
             .label(format!("{} (n = {})", c.group, c.seeds))
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
+    }
+    // Outside curves: one seed each, no band, thinner, in colours after the runs'.
+    for (i, c) in externals.iter().enumerate() {
+        let color = line_color(curves.len() + i);
+        chart
+            .draw_series(LineSeries::new(
+                c.samples.iter().copied().zip(c.mean.iter().copied()),
+                color.stroke_width(1),
+            ))
+            .map_err(err)?
+            .label(format!("{} (1 run)", c.group))
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(1)));
     }
     for (i, (name, value)) in hlines.iter().enumerate() {
         let color = if i % 2 == 0 {
@@ -725,5 +871,48 @@ mod tests {
         assert_eq!(format_samples(1_500_000.0), "1.5M");
         assert_eq!(format_samples(200_000.0), "200k");
         assert_eq!(format_samples(900.0), "900");
+    }
+
+    #[test]
+    fn an_external_curve_reads_its_columns_skips_empty_fields_and_names_bad_ones() {
+        let dir = std::env::temp_dir().join(format!("logo-plot-external-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("reference.csv");
+        std::fs::write(
+            &path,
+            "iteration,samples,rewards/eval_R_avg,KL\n1,20000,56.5,0.01\n2,40000,,0.01\n3,60000,71,0.01\n",
+        )
+        .unwrap();
+        let spec =
+            parse_external(&format!("{},samples,rewards/eval_R_avg", path.display())).unwrap();
+        assert_eq!(spec.label, "reference", "the file's stem by default");
+        assert_eq!(
+            read_external(&spec).unwrap(),
+            vec![(20000.0, 56.5), (60000.0, 71.0)]
+        );
+        let labelled = parse_external(&format!("{},samples,KL,delta", path.display())).unwrap();
+        assert_eq!(labelled.label, "delta");
+        let curves = external_curves(std::slice::from_ref(&spec), 1, Some(50000.0)).unwrap();
+        assert_eq!(
+            (curves[0].samples.clone(), curves[0].seeds),
+            (vec![20000.0], 1)
+        );
+
+        let missing = ExternalSpec {
+            value: "eval".into(),
+            ..spec.clone()
+        };
+        let err = read_external(&missing).unwrap_err().to_string();
+        assert!(
+            err.contains("no column \"eval\"") && err.contains("rewards/eval_R_avg"),
+            "{err}"
+        );
+        std::fs::write(&path, "samples,value\n1,2\n3,oops\n").unwrap();
+        let bad = parse_external(&format!("{},samples,value", path.display())).unwrap();
+        let err = format!("{:#}", read_external(&bad).unwrap_err());
+        assert!(err.contains("row 2, column \"value\": \"oops\""), "{err}");
+        assert!(parse_external("only.csv,samples").is_err());
+        assert!(parse_external("a.csv,,value").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -103,8 +103,12 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
     assert_eq!(rows(&out.join("c").join("seed1")).len(), 2);
 
     // The figure and its data: with a 2-point grid, the CSV holds each config's mean and
-    // std over its seeds at the start and the end of the range both seeds cover.
+    // std over its seeds at the start and the end of the range both seeds cover; an
+    // outside curve (a published reference) is drawn over them and its points follow.
     let figure = dir.join("fig.png");
+    let reference = dir.join("published.csv");
+    std::fs::write(&reference, "step,score\n100,5\n200,\n300,7\n").unwrap();
+    let external = format!("{},step,score,the paper", reference.display());
     let plot = logo(&[
         "plot",
         out.join("a").to_str().unwrap(),
@@ -114,6 +118,8 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
         "--points",
         "2",
         "--paper-lines",
+        "--external",
+        &external,
     ]);
     assert!(
         plot.status.success(),
@@ -124,12 +130,22 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     assert!(png.len() > 10_000, "a drawn figure, not an empty one");
     let csv = std::fs::read_to_string(dir.join("fig.csv")).unwrap();
-    let data: Vec<Vec<String>> = csv
+    let mut data: Vec<Vec<String>> = csv
         .lines()
         .skip(1)
         .map(|l| l.split(',').map(String::from).collect())
         .collect();
-    assert_eq!(data.len(), 4, "{csv}");
+    assert_eq!(data.len(), 6, "{csv}");
+    let external_rows = data.split_off(4);
+    assert_eq!(
+        external_rows,
+        [
+            ["the paper", "100", "5", "0", "1"],
+            ["the paper", "300", "7", "0", "1"]
+        ]
+        .map(|r| r.map(String::from).to_vec()),
+        "{csv}"
+    );
     for (name, runs) in [("b", 2)] {
         let seeds: Vec<Vec<Vec<String>>> = (0..runs)
             .map(|s| rows(&out.join(name).join(format!("seed{s}"))))
