@@ -6,7 +6,7 @@ For every env id, from given initial qpos/qvel and under given action sequences
 it records observations, dense rewards, LOGO's sparse rewards, x positions and the
 termination/truncation flags, for 1000 steps or until the episode ends.
 
-The sparse rewards come from LogoSparse below, written from LOGO-FACTS.md
+The sparse rewards come from LogoSparse below, written from docs/reference.md
 independently of the Rust code. The Rust test crates/logo-envs/tests/parity.rs replays
 the same initial states and actions and compares.
 
@@ -28,7 +28,7 @@ ENV_IDS = [
     "HalfCheetah-v4", "HalfCheetah-v5",
     "InvertedDoublePendulum-v4", "InvertedDoublePendulum-v5",
 ]
-# LOGO's sparse rules (LOGO-FACTS.md): distance threshold, or None = episode lump.
+# LOGO's sparse rules (docs/reference.md): distance threshold, or None = episode lump.
 SPARSE_THRESHOLD = {"Hopper": 2.0, "Walker2d": 2.0, "HalfCheetah": 20.0, "InvertedDoublePendulum": None}
 # Per trajectory: the name, the noise scale of the initial state, the action generator.
 TRAJECTORIES = ["random", "saturating", "gentle"]

@@ -1,4 +1,4 @@
-//! LOGO's sparse-reward versions of the tasks (see `LOGO-FACTS.md`): the agent is paid
+//! LOGO's sparse-reward versions of the tasks (see `docs/reference.md`): the agent is paid
 //! only for having gone far, or only once per episode. The dense reward stays in
 //! [`StepInfo::dense_reward`] so evaluation can report both.
 

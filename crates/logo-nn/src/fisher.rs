@@ -16,7 +16,7 @@ pub enum FisherKind {
     /// The Hessian of the mean KL: [Jᵀ W J v_μ / N ; 2 v_logσ] (textbook TRPO).
     #[default]
     Exact,
-    /// What the LOGO reference's code computes (LOGO-FACTS): Jᵀ W J v_μ / N on the mean
+    /// What the LOGO reference's code computes (docs/reference.md): Jᵀ W J v_μ / N on the mean
     /// parameters plus 2·v on *every* parameter, i.e. Jᵀ W J / N + 2·I. Its steps are much
     /// shorter in parameter space than the exact Fisher's.
     Reference,
@@ -86,7 +86,7 @@ impl<'a, E: Engine> FisherOperator<'a, E> {
         );
         out.extend(v_log_std.iter().map(|x| 2.0 * x));
         if self.kind == FisherKind::Reference {
-            // The reference's slice [0, act_dim·N) covers the whole vector (LOGO-FACTS).
+            // The reference's slice [0, act_dim·N) covers the whole vector (docs/reference.md).
             for (o, x) in out[..self.mean_params].iter_mut().zip(v_mean) {
                 *o += 2.0 * x;
             }

@@ -116,7 +116,7 @@ fn explicit_fisher(
     }
     for (k, row) in f.iter_mut().enumerate() {
         // The exact Fisher has 2·I on the log-stds; the reference's code adds 2·I to every
-        // parameter (LOGO-FACTS): Jᵀ M J / N + 2.01·I with its damping.
+        // parameter (docs/reference.md): Jᵀ M J / N + 2.01·I with its damping.
         if k >= p - act_dim || kind == FisherKind::Reference {
             row[k] += 2.0;
         }

@@ -70,7 +70,7 @@ fn softplus_is_stable_and_float64_exact() {
 }
 
 /// The reference initialises the discriminator's output layer ×0.1 with zero bias
-/// (LOGO-FACTS), so D starts near ½; "uniform" keeps PyTorch's default init.
+/// (docs/reference.md), so D starts near ½; "uniform" keeps PyTorch's default init.
 #[test]
 fn the_discriminator_output_layer_starts_as_the_reference_s() {
     use logo_nn::DiscriminatorInit;
