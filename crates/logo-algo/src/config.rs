@@ -9,8 +9,9 @@ use serde::{Deserialize, Serialize};
 use logo_nn::DiscriminatorInit;
 
 use crate::critic::CriticConfig;
-use crate::policy_update::{PolicyUpdateConfig, check_positive};
-use crate::rollout::RolloutMode;
+use crate::policy_update::PolicyUpdateConfig;
+use crate::sampler::RolloutMode;
+use crate::validate::{MAX_ENVS, MAX_SAMPLES_PER_ITER, check_positive, check_widths};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -134,38 +135,6 @@ fn default_disc_lr() -> f64 {
 pub struct ConfigError {
     pub path: PathBuf,
     pub message: String,
-}
-
-/// The largest batch (and evaluation) a run may ask for.
-pub const MAX_SAMPLES_PER_ITER: usize = 10_000_000;
-/// The most env copies or worker threads.
-pub const MAX_ENVS: usize = 4096;
-/// The widest hidden layer, and the most hidden layers, of any network.
-pub const MAX_WIDTH: usize = 65_536;
-pub const MAX_LAYERS: usize = 64;
-/// The most weights between a network's hidden layers (400 MB in float64).
-pub const MAX_HIDDEN_WEIGHTS: usize = 50_000_000;
-
-/// A network's hidden sizes: each 1..=MAX_WIDTH, at most MAX_LAYERS of them.
-pub fn check_widths(key: &str, hidden: &[usize]) -> Result<(), String> {
-    if hidden.len() > MAX_LAYERS {
-        return Err(format!(
-            "{key}: {} layers, at most {MAX_LAYERS}",
-            hidden.len()
-        ));
-    }
-    if let Some(w) = hidden.iter().find(|&&w| w == 0 || w > MAX_WIDTH) {
-        return Err(format!(
-            "{key}: every layer needs 1 to {MAX_WIDTH} units, got {w}"
-        ));
-    }
-    let between: usize = hidden.windows(2).map(|w| w[0] * w[1]).sum();
-    if between > MAX_HIDDEN_WEIGHTS {
-        return Err(format!(
-            "{key}: {between} weights between hidden layers, at most {MAX_HIDDEN_WEIGHTS}"
-        ));
-    }
-    Ok(())
 }
 
 impl TrainConfig {

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::adam::{Adam, AdamEpochs};
 use crate::lbfgs::{self, LineSearch};
-use crate::policy_update::check_positive;
+use crate::validate::{MAX_SAMPLES_PER_ITER, check_count, check_positive, check_widths};
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -124,26 +124,18 @@ fn default_adam_lr() -> f64 {
 impl CriticConfig {
     /// What a config file cannot be trusted to hold; `table` names where it is.
     pub fn validate(&self, table: &str) -> Result<(), String> {
-        crate::config::check_widths(&format!("{table}.hidden"), &self.hidden)?;
+        check_widths(&format!("{table}.hidden"), &self.hidden)?;
         match &self.fit {
             CriticFit::Lbfgs(fit) => {
-                crate::policy_update::check_count(
-                    &format!("{table}.fit.iterations"),
-                    fit.iterations,
-                    100_000,
-                )?;
+                check_count(&format!("{table}.fit.iterations"), fit.iterations, 100_000)?;
                 check_positive(&format!("{table}.fit.l2"), fit.l2, true)
             }
             CriticFit::Adam(fit) => {
-                crate::policy_update::check_count(
-                    &format!("{table}.fit.epochs"),
-                    fit.epochs,
-                    10_000,
-                )?;
-                crate::policy_update::check_count(
+                check_count(&format!("{table}.fit.epochs"), fit.epochs, 10_000)?;
+                check_count(
                     &format!("{table}.fit.minibatch"),
                     fit.minibatch,
-                    crate::config::MAX_SAMPLES_PER_ITER,
+                    MAX_SAMPLES_PER_ITER,
                 )?;
                 check_positive(
                     &format!("{table}.fit.learning_rate"),

@@ -1,159 +1,85 @@
-//! LOGO's guidance: the offline signal r_C and the KL bound δ_k of the guidance step.
-
-use std::collections::VecDeque;
+//! LOGO's guidance step (Algorithm 1, lines 4-9 and 13-14): the offline signal r_C, and a
+//! second policy step on the same batch, π_{k+½} → π_{k+1}, with KL ≈ δ_k and every
+//! ratio against π_k. Its parts live in files of their own: the δ_k schedule
+//! (`delta_schedule.rs`) and the discriminator (`discriminator.rs`).
 
 use burn::tensor::Tensor;
-use logo_data::Demonstrations;
-use logo_nn::flat::{params_to_vec, vec_to_params};
-use logo_nn::loss::{binary_cross_entropy, guidance_reward, value_and_grad};
-use logo_nn::{Discriminator, Engine, Policy};
-use serde::{Deserialize, Serialize};
+use logo_nn::{Engine, Policy};
+use rand_chacha::ChaCha8Rng;
 
-use crate::adam::Adam;
+use crate::delta_schedule::DeltaSchedule;
+use crate::discriminator::DiscriminatorTrainer;
+use crate::policy_update::{PolicyUpdateConfig, StepBatch, UpdateState, UpdateStats};
+use crate::sampler::Batch;
 
-/// δ_k: starts at δ_0; after the warm-up (iterations > K_δ, 0-based) it shrinks by α each
-/// time the batch's mean sparse return beats the mean of the previous (up to) 10, down
-/// to [`DELTA_FLOOR`]; guidance stops once δ_k is at the floor (LOGO-FACTS).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DeltaSchedule {
-    pub delta: f64,
-    pub alpha: f64,
-    pub warmup: usize,
-    window: VecDeque<f64>,
+/// Where r_C comes from.
+pub enum GuidanceSignal<E: Engine> {
+    /// r_C = −log D(s, a), D trained on the demonstrations (the paper's unknown π_b).
+    Discriminator(DiscriminatorTrainer<E>),
+    /// r_C = log π_b(a|s) − log π_k(a|s) (a known behaviour policy).
+    Behaviour(Policy<E>),
 }
 
-/// The floor of δ_k (the reference's 5e-7).
-pub const DELTA_FLOOR: f64 = 5e-7;
-/// The guidance step runs while δ_k is above this (the reference's test, δ_k > 6e-7).
-pub const GUIDANCE_THRESHOLD: f64 = 6e-7;
-const WINDOW: usize = 10;
+/// LOGO's guidance: its signal, δ_k, and its policy-update kind and state.
+pub struct Guidance<E: Engine> {
+    pub signal: GuidanceSignal<E>,
+    pub schedule: DeltaSchedule,
+    pub update: PolicyUpdateConfig,
+    pub state: UpdateState,
+}
 
-impl DeltaSchedule {
-    pub fn new(delta0: f64, alpha: f64, warmup: usize) -> Self {
-        Self {
-            delta: delta0,
-            alpha,
-            warmup,
-            window: VecDeque::new(),
-        }
-    }
+/// One batch's guidance reward, and the discriminator's inputs its update reuses.
+pub struct GuidanceReward<E: Engine> {
+    pub rewards: Vec<f64>,
+    pub discriminator_inputs: Option<E::Rows>,
+}
 
-    /// Feeds iteration `iteration`'s mean sparse training return.
-    pub fn update(&mut self, iteration: usize, sparse_return: f64) {
-        if iteration > self.warmup && !self.window.is_empty() {
-            let previous = self.window.iter().sum::<f64>() / self.window.len() as f64;
-            if sparse_return > previous {
-                self.delta = (self.alpha * self.delta).max(DELTA_FLOOR);
+impl<E: Engine> Guidance<E> {
+    /// r_C for every pair of `batch` (`data` is the same batch on the engine), from the
+    /// discriminator as the previous iteration left it.
+    pub fn rewards(&self, engine: &E, batch: &Batch, data: &StepBatch<E>) -> GuidanceReward<E> {
+        match &self.signal {
+            GuidanceSignal::Discriminator(d) => {
+                let inputs = d.inputs(engine, &batch.obs, &batch.actions);
+                GuidanceReward {
+                    rewards: d.rewards(engine, &inputs),
+                    discriminator_inputs: Some(inputs),
+                }
             }
+            GuidanceSignal::Behaviour(pi_b) => GuidanceReward {
+                rewards: behaviour_rewards(engine, pi_b, &data.obs, &data.actions, &data.logp_old),
+                discriminator_inputs: None,
+            },
         }
-        if self.window.len() == WINDOW {
-            self.window.pop_front();
-        }
-        self.window.push_back(sparse_return);
     }
 
-    /// Whether the guidance step still runs.
-    pub fn guidance_on(&self) -> bool {
-        self.delta > GUIDANCE_THRESHOLD
-    }
-}
-
-/// The discriminator's input rows `[obs[..observe] ‖ action]` of row-major pairs.
-pub fn censored_inputs(obs: &[f64], actions: &[f64], act_dim: usize, observe: usize) -> Vec<f64> {
-    let obs_dim = obs.len() / (actions.len() / act_dim).max(1);
-    obs.chunks_exact(obs_dim)
-        .zip(actions.chunks_exact(act_dim))
-        .flat_map(|(o, a)| o[..observe].iter().chain(a).copied())
-        .collect()
-}
-
-/// LOGO's discriminator on an engine: D(s, a) = σ(logit), the probability that a pair
-/// came from the policy. Trained by one full-batch Adam step per iteration on binary
-/// cross-entropy, policy pairs labelled 1 and demonstration pairs 0 (the loss is the sum
-/// of the two means, as the reference's GAIL-style code writes it); Adam's lr 3e-4.
-pub struct DiscriminatorTrainer<E: Engine> {
-    dims: Vec<usize>,
-    pub net: E::Net,
-    pub observe: usize,
-    pub act_dim: usize,
-    pub optim: Adam,
-    lr: f64,
-    /// The demonstrations as input rows, uploaded once.
-    demo_rows: E::Rows,
-}
-
-impl<E: Engine> DiscriminatorTrainer<E> {
-    pub fn new<B: burn::tensor::backend::Backend>(
+    /// The guidance step from `policy` (π_{k+½}) on `data` with the guidance advantages.
+    pub fn step(
+        &mut self,
         engine: &E,
-        module: &Discriminator<B>,
-        demos: &Demonstrations,
-        lr: f64,
-    ) -> Self {
-        let dims = module.net.dims();
-        let inputs = censored_inputs(&demos.obs, &demos.actions, demos.act_dim, module.observe);
-        Self {
-            net: engine.net(&dims, &params_to_vec(&module.net)),
-            demo_rows: engine.rows(&inputs, dims[0]),
-            dims,
-            observe: module.observe,
-            act_dim: demos.act_dim,
-            optim: Adam::default(),
-            lr,
-        }
-    }
-
-    /// `template` with this discriminator's parameters (for checkpoints).
-    pub fn to_module<B: burn::tensor::backend::Backend>(
-        &self,
-        engine: &E,
-        template: Discriminator<B>,
-    ) -> Discriminator<B> {
-        let net = vec_to_params(template.net, &engine.params(&self.net));
-        Discriminator { net, ..template }
-    }
-
-    /// The batch's pairs as this discriminator's input rows, uploaded once per iteration
-    /// for [`Self::rewards`] and [`Self::update`].
-    pub fn inputs(&self, engine: &E, obs: &[f64], actions: &[f64]) -> E::Rows {
-        engine.rows(
-            &censored_inputs(obs, actions, self.act_dim, self.observe),
-            self.dims[0],
+        policy: &Policy<E>,
+        data: &StepBatch<E>,
+        advantages: Tensor<E::B, 1>,
+        rng: &mut ChaCha8Rng,
+    ) -> (Policy<E>, UpdateStats) {
+        self.update.update(
+            engine,
+            policy,
+            &data.with_advantages(advantages),
+            self.schedule.delta,
+            &mut self.state,
+            rng,
         )
     }
 
-    /// r_C = −log D(s, a) for each pair (higher where the pair looks like the demos).
-    pub fn rewards(&self, engine: &E, inputs: &E::Rows) -> Vec<f64> {
-        engine.download(guidance_reward(logits(engine.forward(&self.net, inputs))))
-    }
-
-    /// One Adam step on the BCE loss; returns the loss before the step.
-    pub fn update(&mut self, engine: &E, policy_inputs: &E::Rows) -> f64 {
-        let mut value = 0.0;
-        let mut grad = vec![0.0; engine.params(&self.net).len()];
-        for (rows, label_one) in [(policy_inputs, true), (&self.demo_rows, false)] {
-            let trace = engine.trace(&self.net, rows);
-            let (loss, d_logits) = value_and_grad(engine.output(&trace), |out| {
-                binary_cross_entropy(logits(out), label_one)
-            });
-            value += engine.download(loss)[0];
-            let part = engine.vjp(&self.net, &trace, d_logits);
-            grad.iter_mut().zip(part).for_each(|(g, d)| *g += d);
-        }
-        let mut theta = engine.params(&self.net);
-        self.optim.step(&mut theta, &grad, self.lr);
-        self.net = engine.net(&self.dims, &theta);
-        // A non-finite parameter reports as a non-finite loss (the trainer stops on it).
-        if theta.iter().all(|v| v.is_finite()) {
-            value
-        } else {
-            f64::NAN
+    /// One discriminator update on the batch's pairs (policy 1, demonstrations 0): its
+    /// loss, or None where there is no discriminator or no inputs this iteration.
+    pub fn train_discriminator(&mut self, engine: &E, inputs: Option<&E::Rows>) -> Option<f64> {
+        match (&mut self.signal, inputs) {
+            (GuidanceSignal::Discriminator(d), Some(inputs)) => Some(d.update(engine, inputs)),
+            _ => None,
         }
     }
-}
-
-/// A one-column network output as one value per row.
-fn logits<B: burn::tensor::backend::Backend>(out: Tensor<B, 2>) -> Tensor<B, 1> {
-    out.squeeze_dim::<1>(1)
 }
 
 /// r_C = −C = log π_b(a|s) − log π_k(a|s) when the behaviour policy is known.
@@ -165,38 +91,4 @@ pub fn behaviour_rewards<E: Engine>(
     logp_k: &Tensor<E::B, 1>,
 ) -> Vec<f64> {
     engine.download(behaviour.log_prob(engine, obs, actions) - logp_k.clone())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn delta_shrinks_only_after_warmup_and_only_on_improvement() {
-        let mut s = DeltaSchedule::new(0.2, 0.9, 5);
-        for i in 0..=5 {
-            s.update(i, i as f64); // improving, but within the warm-up
-        }
-        assert_eq!(s.delta, 0.2);
-        s.update(6, 100.0);
-        assert!((s.delta - 0.18).abs() < 1e-15);
-        s.update(7, 0.0); // worse than the window's mean
-        assert!((s.delta - 0.18).abs() < 1e-15);
-        // A sparse return that stays 0 never shrinks δ.
-        let mut zero = DeltaSchedule::new(0.01, 0.95, 0);
-        for i in 0..50 {
-            zero.update(i, 0.0);
-        }
-        assert_eq!(zero.delta, 0.01);
-        // The floor, and guidance off there.
-        let mut fast = DeltaSchedule::new(1e-6, 0.1, 0);
-        for i in 0..5 {
-            fast.update(i, i as f64);
-        }
-        assert_eq!(fast.delta, DELTA_FLOOR);
-        assert!(!fast.guidance_on());
-        // Just above the threshold guidance runs; at it, it does not.
-        assert!(DeltaSchedule::new(GUIDANCE_THRESHOLD * 1.01, 0.9, 0).guidance_on());
-        assert!(!DeltaSchedule::new(GUIDANCE_THRESHOLD, 0.9, 0).guidance_on());
-    }
 }

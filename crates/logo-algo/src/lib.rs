@@ -1,30 +1,39 @@
-//! LOGO and its variants, readable top to bottom: `trainer.rs` is the loop of one
+//! LOGO and its variants, readable top to bottom: `trainer/mod.rs` is the loop of one
 //! iteration, each step a function of its own file, each variant a configuration.
 //!
 //! | file | the paper's name |
 //! | --- | --- |
-//! | `rollout.rs` | collect (s, a, r, s') ~ π_k: whole episodes, at least `samples_per_iter` steps |
+//! | `sampler.rs` | collect (s, a, r, s') ~ π_k: whole episodes, at least `samples_per_iter` steps |
 //! | `gae.rs` | generalised advantage estimation |
 //! | `critic.rs` | the critic kinds (`single`, `twin-min` = clipped double-Q) and their fits (`lbfgs.rs`, `adam.rs`) |
 //! | `policy_update/` | the policy-update kinds: `trpo`, `clip-in-trpo`, `ppo-clip`, `ppo-penalty` |
-//! | `guidance.rs` | LOGO: discriminator D, r_C = −log D (or log π_b − log π_k), the δ_k schedule |
-//! | `trainer.rs` | the iteration, evaluation, checkpoints |
+//! | `guidance.rs` | LOGO's guidance step: r_C = −log D (or log π_b − log π_k), the step with KL ≈ δ_k |
+//! | `delta_schedule.rs` | the δ_k schedule |
+//! | `discriminator.rs` | the discriminator D and its training |
+//! | `episode.rs` | one episode of a fixed policy; the evaluation |
+//! | `streams.rs` | the table of random streams |
+//! | `trainer/` | the iteration (`mod.rs`), building a run (`build.rs`), checkpoints and resume (`checkpoint.rs`) |
 //! | `metrics.rs`, `run_dir.rs` | `metrics.csv` and the run's folder |
-//! | `config.rs` | the TOML config |
+//! | `config.rs`, `validate.rs` | the TOML config, and the checks its tables share |
 
 pub mod adam;
 pub mod config;
 pub mod critic;
+pub mod delta_schedule;
+pub mod discriminator;
+pub mod episode;
 pub mod gae;
 pub mod guidance;
 pub mod lbfgs;
 pub mod metrics;
 pub mod more_thuente;
 pub mod policy_update;
-pub mod rollout;
 pub mod run_dir;
+pub mod sampler;
+pub mod streams;
 pub mod trainer;
+pub mod validate;
 
 pub use config::{ConfigError, TrainConfig};
 pub use metrics::IterationMetrics;
-pub use trainer::{EngineSpan, Trainer, engine_history};
+pub use trainer::{EngineSpan, Schedule, Trainer, engine_history};

@@ -19,6 +19,13 @@ pub struct IterationMetrics {
     pub train_dense_return: f64,
     /// Mean dense return of the deterministic policy (NaN when not evaluated).
     pub eval_dense_return: f64,
+    /// The evaluation episodes' mean distance moved (`qpos[0]`, end minus start) and mean
+    /// action RMS (as given to the env, before MuJoCo clamps it). Absent (NaN) in files
+    /// written before these columns existed.
+    #[serde(default = "nan")]
+    pub eval_moved: f64,
+    #[serde(default = "nan")]
+    pub eval_action_rms: f64,
     /// The improvement step: mean KL(π_k ‖ π_{k+½}), step length ‖Δθ‖, why it stopped,
     /// epochs (first-order kinds), β (`ppo-penalty`).
     pub kl: f64,
@@ -33,6 +40,9 @@ pub struct IterationMetrics {
     pub guidance_epochs: usize,
     pub guidance_beta: f64,
     pub delta_k: f64,
+    /// The batch's mean guidance reward r_C (NaN without a guidance step).
+    #[serde(default = "nan")]
+    pub guidance_reward: f64,
     /// Mean log σ of the policy after the iteration.
     pub mean_log_std: f64,
     pub critic_loss: f64,
@@ -47,6 +57,10 @@ pub struct IterationMetrics {
     pub t_guidance: f64,
     pub t_discriminator: f64,
     pub t_evaluation: f64,
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 impl IterationMetrics {

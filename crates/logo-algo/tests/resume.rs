@@ -104,7 +104,7 @@ fn a_killed_trpo_run_resumes_to_the_same_final_checkpoint() {
 fn a_steps_mode_run_says_it_cannot_be_resumed() {
     let dir = scratch("steps");
     let mut config = config(&dir, false);
-    config.rollout = logo_algo::rollout::RolloutMode::Steps;
+    config.rollout = logo_algo::sampler::RolloutMode::Steps;
     config.iterations = 2;
     let mut trainer = Trainer::new(Kernels, config, &dir).unwrap();
     while !trainer.done() {
@@ -183,6 +183,57 @@ fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
         err.contains("resume state critic_adam: Adam moments of lengths 3 and 3"),
         "{err}"
     );
+    // Resume-state values out of range or out of step with each other, with the metadata
+    // or with metrics.csv (each was once resumed, writing NaN or wrong rows with exit 0).
+    for (edit, expected) in [
+        (
+            ("schedule", "delta", serde_json::json!(-0.1)),
+            "resume state schedule: δ_k = -0.1 is outside [5e-7, δ_0 = 0.2]",
+        ),
+        (
+            ("schedule", "delta", serde_json::json!(0.5)),
+            "δ_k = 0.5 is outside",
+        ),
+        (
+            ("schedule", "alpha", serde_json::json!(1.5)),
+            "α = 1.5 is outside (0, 1]",
+        ),
+        (
+            ("schedule", "window", serde_json::json!(vec![1.0; 11])),
+            "at most 10 finite values",
+        ),
+    ] {
+        let ((table, key, value), expected) = (edit, expected);
+        let err = resume_edited(&|c| c.meta.extra["resume"][table][key] = value.clone());
+        assert!(err.contains(expected), "{table}.{key} = {value}: {err}");
+    }
+    let samples = good.meta.extra["resume"]["samples"].as_u64().unwrap();
+    let err = resume_edited(&|c| c.meta.extra["resume"]["samples"] = (samples + 1).into());
+    assert!(
+        err.contains(&format!("{} samples after iteration 2, but", samples + 1))
+            && err.contains(&format!("metrics.csv says {samples}")),
+        "{err}"
+    );
+    let err = resume_edited(&|c| c.meta.extra["resume"]["samples"] = serde_json::json!(1));
+    assert!(err.contains("1 samples in 2 iterations"), "{err}");
+    let err = resume_edited(&|c| c.meta.extra["resume"]["iteration"] = serde_json::json!(1));
+    assert!(
+        err.contains("iteration is 2, its config (or resume state) says 1"),
+        "{err}"
+    );
+    for engines in [
+        serde_json::json!("kernels f64"),
+        serde_json::json!([{"from_iteration": 1, "engine": "kernels f64"}]),
+        serde_json::json!([
+            {"from_iteration": 0, "engine": "kernels f64"},
+            {"from_iteration": 0, "engine": "burn ndarray f64"}
+        ]),
+        serde_json::json!([{"from_iteration": 0, "engine": "kernels f64"},
+                           {"from_iteration": 9, "engine": "burn ndarray f64"}]),
+    ] {
+        let err = resume_edited(&|c| c.meta.extra["engines"] = engines.clone());
+        assert!(err.contains("metadata engines"), "{engines}: {err}");
+    }
     // Sizes that the file's numbers cannot hold are refused on load, before any network
     // is built from them.
     let mut ckpt = good;

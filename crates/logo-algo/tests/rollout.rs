@@ -1,6 +1,6 @@
 //! The two ways of cutting a batch.
 
-use logo_algo::rollout::{RolloutMode, Sampler};
+use logo_algo::sampler::{RolloutMode, Sampler};
 use logo_envs::{EnvFactory, EnvOptions, VecEnv};
 use logo_nn::{Cpu, PolicyConfig};
 use rand::SeedableRng;

@@ -39,8 +39,10 @@ pub struct EngineArgs {
     /// The burn engine's backend (implies --engine burn; default ndarray).
     #[arg(long, value_enum)]
     pub backend: Option<BackendKind>,
-    #[arg(long, value_enum, default_value_t = Dtype::F64)]
-    pub dtype: Dtype,
+    /// The float type (default: f64 on the CPU; f32 on the GPU backends, which have no
+    /// other).
+    #[arg(long, value_enum)]
+    pub dtype: Option<Dtype>,
 }
 
 impl EngineArgs {
@@ -61,9 +63,20 @@ impl EngineArgs {
         }
         args.extend([
             "--dtype".to_string(),
-            name(&|| self.dtype.to_possible_value()),
+            name(&|| self.dtype().to_possible_value()),
         ]);
         args
+    }
+
+    /// Whether the backend is a GPU one (float32 only).
+    fn gpu(&self) -> bool {
+        matches!(self.backend, Some(BackendKind::Wgpu | BackendKind::Cuda))
+    }
+
+    /// The float type: as given, else f32 on a GPU backend and f64 elsewhere.
+    pub fn dtype(&self) -> Dtype {
+        self.dtype
+            .unwrap_or(if self.gpu() { Dtype::F32 } else { Dtype::F64 })
     }
 }
 
@@ -83,10 +96,15 @@ impl EngineArgs {
             (Some(EngineKind::Kernels), None) | (None, None) => EngineKind::Kernels,
             _ => EngineKind::Burn,
         };
+        if self.gpu() && self.dtype.is_none() {
+            eprintln!(
+                "note: the GPU backends compute in float32 (WGSL has no float64): --dtype f32"
+            );
+        }
         match (
             engine,
             self.backend.unwrap_or(BackendKind::Ndarray),
-            self.dtype,
+            self.dtype(),
         ) {
             (EngineKind::Kernels, _, Dtype::F64) => command.run(Kernels),
             (EngineKind::Kernels, _, Dtype::F32) => command.run(Kernels::<f32>::default()),
@@ -103,10 +121,13 @@ impl EngineArgs {
                 ))
             }
             (EngineKind::Burn, BackendKind::Wgpu | BackendKind::Cuda, Dtype::F64) => {
-                bail!("the GPU backends compute in float32 (WGSL has no float64): add --dtype f32")
+                bail!(
+                    "--dtype f64: the GPU backends compute in float32 only (WGSL has no float64); leave --dtype out or give f32"
+                )
             }
             #[cfg(feature = "wgpu")]
             (EngineKind::Burn, BackendKind::Wgpu, Dtype::F32) => {
+                wgpu_adapter()?;
                 command.run(BurnEngine::<logo_nn::burn::backend::Wgpu>::new(
                     Default::default(),
                     "wgpu f32",
@@ -129,4 +150,28 @@ impl EngineArgs {
             ),
         }
     }
+}
+
+/// That wgpu finds a device to run on. Without one (no GPU, no Vulkan driver) burn's
+/// runtime panics at its first operation; this asks first and says what to install.
+#[cfg(feature = "wgpu")]
+fn wgpu_adapter() -> Result<()> {
+    use logo_nn::burn::backend::Wgpu;
+    use logo_nn::burn::tensor::Tensor;
+    let quiet = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let probe = std::panic::catch_unwind(|| {
+        let device = Default::default();
+        Tensor::<Wgpu, 1>::zeros([1], &device).into_data()
+    });
+    std::panic::set_hook(quiet);
+    if probe.is_err() {
+        bail!(
+            "--backend wgpu: wgpu found no adapter (no GPU, or no Vulkan/Metal/DX12 driver for \
+             it). Without a GPU, Mesa's lavapipe runs Vulkan on the CPU: `apt-get install \
+             mesa-vulkan-drivers libvulkan1` on Debian or Ubuntu; with one, install its \
+             vendor's Vulkan driver"
+        );
+    }
+    Ok(())
 }

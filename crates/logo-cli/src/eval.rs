@@ -10,7 +10,7 @@ use logo_nn::{
 };
 
 use crate::engine::{EngineArgs, WithEngine};
-use crate::rollout::{Episode, mean_std, run_episode};
+use logo_algo::episode::{Episode, mean_std, run_episode};
 
 #[derive(Args)]
 pub struct EvalArgs {
@@ -65,6 +65,7 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     let meta = &meta;
     let (acting, engine) = args.engine.with(OnEngine(&policy))?;
     let trained_on = logo_algo::engine_history(meta)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.checkpoint.display()))?
         .iter()
         .map(|span| format!("{} from iteration {}", span.engine, span.from_iteration))
         .collect::<Vec<_>>()
@@ -111,7 +112,7 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         );
         let episodes = (0..args.episodes as u64)
             .map(|episode| run_episode(env.as_mut(), args.seed + episode, |obs| acting.mean(obs)))
-            .collect::<Result<Vec<_>>>()?;
+            .collect::<Result<Vec<_>, _>>()?;
         println!("{id:32} {}", summary(&episodes));
     }
     Ok(())

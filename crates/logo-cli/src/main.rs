@@ -1,7 +1,6 @@
 //! `logo`: the one command of logo-rl.
 
 mod bench;
-mod bench_nn;
 mod data;
 mod engine;
 mod eval;

@@ -2,7 +2,8 @@
 
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
-use logo_envs::{Env, EnvFactory, EnvOptions, all_env_ids};
+use logo_algo::episode::{mean_std, run_episode};
+use logo_envs::{EnvFactory, EnvOptions, all_env_ids};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -88,58 +89,4 @@ pub fn run(args: &RolloutArgs) -> Result<()> {
         args.episodes
     );
     Ok(())
-}
-
-/// One episode's totals.
-#[derive(Debug)]
-pub struct Episode {
-    pub return_: f64,
-    pub dense_return: f64,
-    pub length: usize,
-    /// Ended by the MDP (a fall), not by the time limit.
-    pub terminated: bool,
-    /// `qpos[0]` at the end minus at the start: forward distance for the locomotion envs,
-    /// the cart's travel for IDP.
-    pub moved: f64,
-    /// Root mean square over every action component of every step, as given to the env
-    /// (before MuJoCo clamps it to the actuator range).
-    pub action_rms: f64,
-}
-
-/// Runs one episode from `reset(seed)` to its end, acting with `act`.
-pub fn run_episode(
-    env: &mut dyn Env,
-    seed: u64,
-    mut act: impl FnMut(&[f64]) -> Vec<f64>,
-) -> Result<Episode> {
-    let mut obs = vec![0.0; env.spec().obs_dim];
-    env.reset(Some(seed), &mut obs);
-    let x_start = env.x_position();
-    let (mut return_, mut dense_return, mut length, mut squared_action) = (0.0, 0.0, 0, 0.0);
-    loop {
-        let action = act(&obs);
-        squared_action += action.iter().map(|a| a * a).sum::<f64>();
-        let step = env.step(&action, &mut obs)?;
-        return_ += step.reward;
-        dense_return += step.info.dense_reward;
-        length += 1;
-        if step.done() {
-            let components = (length * env.spec().act_dim) as f64;
-            return Ok(Episode {
-                return_,
-                dense_return,
-                length,
-                terminated: step.terminated,
-                moved: env.x_position() - x_start,
-                action_rms: (squared_action / components).sqrt(),
-            });
-        }
-    }
-}
-
-pub fn mean_std(x: &[f64]) -> (f64, f64) {
-    let n = x.len().max(1) as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    let var = x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n;
-    (mean, var.sqrt())
 }

@@ -5,10 +5,29 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
-use logo_algo::{TrainConfig, Trainer};
+use logo_algo::{Schedule, TrainConfig, Trainer};
 use logo_nn::Engine;
 
 use crate::engine::{EngineArgs, WithEngine};
+
+/// How each iteration's steps are laid over the threads (the numbers are the same).
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub enum ScheduleArg {
+    /// One step after another.
+    Sequential,
+    /// Critic fits beside the policy steps, the next batch's sampling and the evaluation.
+    #[default]
+    Pipelined,
+}
+
+impl From<ScheduleArg> for Schedule {
+    fn from(arg: ScheduleArg) -> Self {
+        match arg {
+            ScheduleArg::Sequential => Schedule::Sequential,
+            ScheduleArg::Pipelined => Schedule::Pipelined,
+        }
+    }
+}
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum StopMetric {
@@ -49,6 +68,10 @@ pub struct TrainArgs {
     /// Overrides the config's worker threads.
     #[arg(long)]
     threads: Option<usize>,
+    /// How each iteration's steps are laid over the threads; either gives the same
+    /// metrics and checkpoints.
+    #[arg(long, value_enum, default_value_t = ScheduleArg::Pipelined)]
+    schedule: ScheduleArg,
     #[command(flatten)]
     engine: EngineArgs,
 }
@@ -72,7 +95,12 @@ pub fn run(args: &TrainArgs) -> Result<()> {
     let stop = args.stop_at_return.map(|r| (r, args.stop_metric));
     if let Some(dir) = &args.resume {
         let start = Start::Resume(dir.clone(), args.iterations);
-        return args.engine.with(Train { start, stop });
+        let schedule = args.schedule.into();
+        return args.engine.with(Train {
+            start,
+            stop,
+            schedule,
+        });
     }
     let config_path = args.config.as_ref().expect("clap: --config or --resume");
     let mut config = TrainConfig::load(config_path)?;
@@ -94,23 +122,34 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("runs/{name}-seed{}", config.seed)));
     let start = Start::New(Box::new(config), out);
-    args.engine.with(Train { start, stop })
+    let schedule = args.schedule.into();
+    args.engine.with(Train {
+        start,
+        stop,
+        schedule,
+    })
 }
 
 /// `logo train` on the chosen engine.
 struct Train {
     start: Start,
     stop: Option<(f64, StopMetric)>,
+    schedule: Schedule,
 }
 
 impl WithEngine for Train {
     type Output = ();
     fn run<E: Engine>(self, engine: E) -> Result<()> {
-        train(engine, self.start, self.stop)
+        train(engine, self)
     }
 }
 
-fn train<E: Engine>(engine: E, start: Start, stop: Option<(f64, StopMetric)>) -> Result<()> {
+fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
+    let Train {
+        start,
+        stop,
+        schedule,
+    } = job;
     let (mut trainer, out) = match start {
         Start::New(config, out) => {
             let trainer =
@@ -129,6 +168,7 @@ fn train<E: Engine>(engine: E, start: Start, stop: Option<(f64, StopMetric)>) ->
             (trainer, dir)
         }
     };
+    trainer.set_schedule(schedule);
     let config = trainer.config.clone();
     println!(
         "{} on {} (eval: {}), {} iterations x {} samples, seed {}, {} envs on {} threads, {} -> {}",

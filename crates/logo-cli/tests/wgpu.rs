@@ -10,7 +10,7 @@ use std::process::Command;
 
 use burn::tensor::Tensor;
 use logo_algo::critic::ValueObjective;
-use logo_algo::guidance::DiscriminatorTrainer;
+use logo_algo::discriminator::DiscriminatorTrainer;
 use logo_algo::lbfgs::Objective;
 use logo_algo::policy_update::objective::{StepBatch, Surrogate, anchor, evaluate, gradient};
 use logo_data::Demonstrations;

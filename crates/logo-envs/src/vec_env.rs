@@ -20,9 +20,19 @@ pub struct VecStep {
     pub final_obs: Vec<f64>,
 }
 
+/// Where the copies are stepped.
+enum Workers {
+    /// One after another on the calling thread.
+    Serial,
+    /// On the env's own pool.
+    Own(rayon::ThreadPool),
+    /// On the rayon pool the caller runs in, shared with the caller's other work.
+    CallerPool,
+}
+
 pub struct VecEnv {
     envs: Vec<Box<dyn Env>>,
-    pool: Option<rayon::ThreadPool>,
+    workers: Workers,
     spec: EnvSpec,
     out: VecStep,
 }
@@ -57,7 +67,7 @@ impl VecEnv {
                 "a vectorised env needs at least one copy and one thread (got {num_envs} copies, {threads} threads)"
             )));
         }
-        let pool = if threads > 1 {
+        let workers = if threads > 1 {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .thread_name(|i| format!("logo-env-{i}"))
@@ -65,15 +75,39 @@ impl VecEnv {
                 .map_err(|e| {
                     EnvError::InvalidOption(format!("cannot start {threads} threads: {e}"))
                 })?;
-            Some(pool)
+            Workers::Own(pool)
         } else {
-            None
+            Workers::Serial
         };
+        Self::with_workers(factory, num_envs, workers, seed)
+    }
+
+    /// `num_envs` copies stepped on the rayon pool of whoever calls [`Self::map_copies`]
+    /// or [`Self::step`] (a trainer that runs every phase on one pool of its own).
+    pub fn on_caller_pool(
+        factory: &EnvFactory,
+        num_envs: usize,
+        seed: u64,
+    ) -> Result<Self, EnvError> {
+        if num_envs == 0 {
+            return Err(EnvError::InvalidOption(
+                "a vectorised env needs at least one copy (got 0)".into(),
+            ));
+        }
+        Self::with_workers(factory, num_envs, Workers::CallerPool, seed)
+    }
+
+    fn with_workers(
+        factory: &EnvFactory,
+        num_envs: usize,
+        workers: Workers,
+        seed: u64,
+    ) -> Result<Self, EnvError> {
         let spec = factory.spec().clone();
         let envs = (0..num_envs).map(|_| factory.build()).collect();
         let mut vec_env = Self {
             envs,
-            pool,
+            workers,
             out: VecStep {
                 obs: vec![0.0; num_envs * spec.obs_dim],
                 steps: vec![Step::default(); num_envs],
@@ -86,7 +120,7 @@ impl VecEnv {
     }
 
     /// Every copy's reset point (see [`Env::reset_point`]): valid between rollouts that
-    /// end with every copy freshly reset, as `logo_algo::rollout::collect` does.
+    /// end with every copy freshly reset, as `logo_algo::sampler::Sampler::collect` does.
     pub fn reset_points(&self) -> Result<Vec<ResetPoint>, EnvError> {
         self.envs.iter().map(|env| env.reset_point()).collect()
     }
@@ -154,15 +188,20 @@ impl VecEnv {
         let (envs, obs) = (&mut self.envs, &mut self.out.obs);
         let run =
             |((env, o), state): ((&mut Box<dyn Env>, &mut [f64]), S)| f(env.as_mut(), o, state);
-        match &self.pool {
-            Some(pool) => pool.install(|| {
-                envs.par_iter_mut()
-                    .zip(obs.par_chunks_mut(obs_dim))
-                    .zip(states)
-                    .map(run)
-                    .collect()
-            }),
-            None => envs
+        // One task per copy: a copy's share of a batch is long, and whichever worker is
+        // free takes the next copy.
+        let parallel = |envs: &mut Vec<Box<dyn Env>>, obs: &mut Vec<f64>, states: Vec<S>| {
+            envs.par_iter_mut()
+                .zip(obs.par_chunks_mut(obs_dim))
+                .zip(states)
+                .with_max_len(1)
+                .map(run)
+                .collect()
+        };
+        match &self.workers {
+            Workers::Own(pool) => pool.install(|| parallel(envs, obs, states)),
+            Workers::CallerPool => parallel(envs, obs, states),
+            Workers::Serial => envs
                 .iter_mut()
                 .zip(obs.chunks_mut(obs_dim))
                 .zip(states)
@@ -187,16 +226,18 @@ impl VecEnv {
             final_obs,
         } = &mut self.out;
         let envs = &mut self.envs;
-        match &self.pool {
-            Some(pool) => pool.install(|| {
-                envs.par_iter_mut()
-                    .zip(actions.par_chunks(act_dim))
-                    .zip(obs.par_chunks_mut(obs_dim))
-                    .zip(final_obs.par_chunks_mut(obs_dim))
-                    .zip(steps.par_iter_mut())
-                    .try_for_each(|((((env, a), o), f), s)| step_one(env, a, o, f, s))
-            })?,
-            None => envs
+        let mut parallel = || {
+            envs.par_iter_mut()
+                .zip(actions.par_chunks(act_dim))
+                .zip(obs.par_chunks_mut(obs_dim))
+                .zip(final_obs.par_chunks_mut(obs_dim))
+                .zip(steps.par_iter_mut())
+                .try_for_each(|((((env, a), o), f), s)| step_one(env, a, o, f, s))
+        };
+        match &self.workers {
+            Workers::Own(pool) => pool.install(parallel)?,
+            Workers::CallerPool => parallel()?,
+            Workers::Serial => envs
                 .iter_mut()
                 .zip(actions.chunks(act_dim))
                 .zip(obs.chunks_mut(obs_dim))

@@ -256,6 +256,13 @@ impl Checkpoint {
         self.tensors.keys().map(String::as_str)
     }
 
+    /// The shape and values of the tensor `name`.
+    pub fn tensor(&self, name: &str) -> Option<(&[usize], &[f64])> {
+        self.tensors
+            .get(name)
+            .map(|(shape, values)| (shape.as_slice(), values.as_slice()))
+    }
+
     /// Writes to a temporary file beside `path`, syncs it, then renames it over `path`:
     /// a crash leaves the old checkpoint or the new one, never half of one.
     pub fn save(&self, path: &Path) -> Result<(), CheckpointError> {

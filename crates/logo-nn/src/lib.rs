@@ -16,6 +16,7 @@ pub mod discriminator;
 pub mod engine;
 pub mod fisher;
 pub mod flat;
+pub mod flops;
 pub mod kernels;
 pub mod loss;
 pub mod mlp;

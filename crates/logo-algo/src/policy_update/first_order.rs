@@ -5,7 +5,7 @@ use logo_nn::{Engine, Policy};
 use rand_chacha::ChaCha8Rng;
 
 use super::objective::{StepBatch, Surrogate, anchor, evaluate, evaluate_means, gradient};
-use super::{StopReason, UpdateStats};
+use super::stats::{StopReason, UpdateStats};
 use crate::adam::{Adam, AdamEpochs};
 
 /// What a first-order kind ascends, how, and when it stops.

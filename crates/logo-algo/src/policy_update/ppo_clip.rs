@@ -14,8 +14,9 @@ use serde::{Deserialize, Serialize};
 
 use super::first_order::{Ascent, minibatch_ascent};
 use super::objective::{StepBatch, Surrogate};
-use super::{UpdateState, UpdateStats, check_positive};
+use super::stats::{UpdateState, UpdateStats};
 use crate::adam::AdamEpochs;
+use crate::validate::{MAX_SAMPLES_PER_ITER, check_clip, check_count, check_positive};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -69,7 +70,7 @@ impl Default for PpoClipConfig {
 
 impl PpoClipConfig {
     pub fn validate(&self, table: &str) -> Result<(), String> {
-        super::check_clip(&format!("{table}.clip_epsilon"), self.clip_epsilon)?;
+        check_clip(&format!("{table}.clip_epsilon"), self.clip_epsilon)?;
         check_positive(&format!("{table}.kl_stop"), self.kl_stop, false)?;
         check_positive(&format!("{table}.learning_rate"), self.learning_rate, false)?;
         check_positive(&format!("{table}.max_grad_norm"), self.max_grad_norm, false)?;
@@ -79,11 +80,11 @@ impl PpoClipConfig {
 
 /// `epochs` (1..=10,000) and `minibatch` (1..=the largest batch) of a first-order kind.
 pub(super) fn check_counts(table: &str, epochs: usize, minibatch: usize) -> Result<(), String> {
-    super::check_count(&format!("{table}.epochs"), epochs, 10_000)?;
-    super::check_count(
+    check_count(&format!("{table}.epochs"), epochs, 10_000)?;
+    check_count(
         &format!("{table}.minibatch"),
         minibatch,
-        crate::config::MAX_SAMPLES_PER_ITER,
+        MAX_SAMPLES_PER_ITER,
     )
 }
 

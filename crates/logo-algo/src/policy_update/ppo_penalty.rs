@@ -17,8 +17,9 @@ use super::objective::{StepBatch, Surrogate};
 use super::ppo_clip::{
     check_counts, default_epochs, default_learning_rate, default_max_grad_norm, default_minibatch,
 };
-use super::{UpdateState, UpdateStats, check_positive};
+use super::stats::{UpdateState, UpdateStats};
 use crate::adam::AdamEpochs;
+use crate::validate::check_positive;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -1,4 +1,4 @@
-//! `kind = "trpo"`: the natural-gradient step of both of LOGO's steps (LOGO-FACTS):
+//! `kind = "trpo"`: the natural-gradient step of both of LOGO's steps (docs/reference.md):
 //! maximise the surrogate within KL ≤ δ: s = CG(F, g, 10 iterations), full step
 //! s·√(2δ / sᵀFs), backtracking over fractions 0.5^i (i < 10) until actual / expected
 //! improvement > 0.1, else no step.
@@ -8,7 +8,8 @@ use logo_nn::{Engine, FisherKind, FisherOperator, Policy, conjugate_gradient};
 use serde::{Deserialize, Serialize};
 
 use super::objective::{StepBatch, Surrogate, anchor, evaluate, gradient};
-use super::{StopReason, UpdateStats, check_positive};
+use super::stats::{StopReason, UpdateStats};
+use crate::validate::{check_clip, check_count, check_positive};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -85,12 +86,12 @@ impl TrpoConfig {
             check_positive(&format!("{table}.kl_limit"), limit, false)?;
         }
         if let Some(epsilon) = self.clip_epsilon {
-            super::check_clip(&format!("{table}.clip_epsilon"), epsilon)?;
+            check_clip(&format!("{table}.clip_epsilon"), epsilon)?;
         }
         // CG in more iterations than there are parameters gains nothing; 60 halvings
         // already shrink a step below float64's resolution.
-        super::check_count(&format!("{table}.cg_iters"), self.cg_iters, 10_000)?;
-        super::check_count(&format!("{table}.backtracks"), self.backtracks, 60)
+        check_count(&format!("{table}.cg_iters"), self.cg_iters, 10_000)?;
+        check_count(&format!("{table}.backtracks"), self.backtracks, 60)
     }
 }
 

@@ -97,7 +97,9 @@ pub fn gemm<F: KernelFloat>(
     end(c, finish);
 }
 
-/// [`gemm`] into a new `m × n` buffer; `start` is `Zero` or `Bias`.
+/// [`gemm`] into a new `m × n` buffer; `start` is `Zero` or `Bias`. The buffer is not
+/// zero-filled first: the start (a bias row per row) or the product itself (from zero)
+/// writes every element before anything reads it.
 #[allow(clippy::too_many_arguments)]
 pub fn gemm_to_vec<F: KernelFloat>(
     (m, k, n): (usize, usize, usize),
@@ -112,8 +114,41 @@ pub fn gemm_to_vec<F: KernelFloat>(
         !matches!(start, Start::Accumulate),
         "a new buffer has nothing to accumulate into"
     );
-    let mut c = vec![F::ZERO; m * n];
-    gemm((m, k, n), a, a_strides, b, b_strides, &mut c, start, finish);
+    let direct = m <= SMALL_ROWS && b_strides.1 == 1;
+    let overwritten = matches!(start, Start::Zero) && k > 0 && !direct && m > 0 && n > 0;
+    let mut c: Vec<F> = Vec::with_capacity(m * n);
+    match start {
+        Start::Bias(bias) if n > 0 => {
+            assert_eq!(bias.len(), n, "gemm bias of the wrong length");
+            for row in c.spare_capacity_mut().chunks_exact_mut(n) {
+                for (slot, &value) in row.iter_mut().zip(bias) {
+                    slot.write(value);
+                }
+            }
+        }
+        _ if overwritten => {}
+        _ => c.spare_capacity_mut().iter_mut().for_each(|slot| {
+            slot.write(F::ZERO);
+        }),
+    }
+    // SAFETY: every element is initialised: by the bias rows or zeros just written, or
+    // (from zero, through the library) by the product, which writes all of C without
+    // reading it; `gemm` below is told C already holds its start.
+    unsafe { c.set_len(m * n) };
+    gemm(
+        (m, k, n),
+        a,
+        a_strides,
+        b,
+        b_strides,
+        &mut c,
+        if overwritten {
+            Start::Zero
+        } else {
+            Start::Accumulate
+        },
+        finish,
+    );
     c
 }
 
@@ -133,15 +168,23 @@ fn end<F: KernelFloat>(c: &mut [F], finish: Finish<F>) {
     match finish {
         Finish::None => {}
         Finish::Tanh => F::tanh_in_place(c),
-        Finish::TanhDerivative(h) => c
-            .iter_mut()
-            .zip(h)
-            .for_each(|(d, h)| *d *= F::ONE - *h * *h),
+        Finish::TanhDerivative(h) => tanh_derivative(c, h),
     }
 }
 
+/// c ← c ⊙ (1 − h²). Element-wise, so every vector width gives the same bits;
+/// `multiversion` compiles it for AVX-512 and AVX2 besides the baseline's SSE2.
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx2+fma", "x86_64+avx2+fma"))]
+fn tanh_derivative<F: KernelFloat>(c: &mut [F], h: &[F]) {
+    c.iter_mut()
+        .zip(h)
+        .for_each(|(d, h)| *d *= F::ONE - *h * *h);
+}
+
 /// C += A·B for a few rows, B's rows contiguous (stride `rsb`): each row of C gathers
-/// a_ip · B[p, :] over p in order, vectorised across the n columns.
+/// a_ip · B[p, :] over p in order, vectorised across the n columns (a multiply, then an
+/// add: never fused, so every copy `multiversion` makes gives the same bits).
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx2+fma", "x86_64+avx2+fma"))]
 fn small_rows<F: KernelFloat>(
     (m, k, n): (usize, usize, usize),
     a: &[F],

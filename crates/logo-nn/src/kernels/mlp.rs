@@ -94,10 +94,18 @@ impl<F: KernelFloat> HostMlp<F> {
         self.dims.len() - 1
     }
 
+    /// Σ fan_in · fan_out over `layers`: one row's multiply-adds through them.
+    fn products(&self, layers: std::ops::Range<usize>) -> u64 {
+        layers
+            .map(|i| (self.dims[i] * self.dims[i + 1]) as u64)
+            .sum()
+    }
+
     /// The activations of `x` (`[rows, input]` row-major).
     pub fn trace(&self, x: &[F]) -> HostTrace<F> {
         let input = self.input_dim();
         assert_eq!(x.len() % input, 0, "input rows of the wrong width");
+        crate::flops::add(2 * (x.len() / input) as u64 * self.products(0..self.layers()));
         // One block (rollouts, evaluation) runs inline: a trip through rayon's pool
         // costs more than a forward pass at batch 1.
         let blocks = if x.len() <= BLOCK_ROWS * input {
@@ -147,6 +155,8 @@ impl<F: KernelFloat> HostMlp<F> {
     pub fn output_sensitivities(&self, trace: &HostTrace<F>) -> OutputSensitivities<F> {
         let transposed = self.transposed_weights();
         let (layers, outputs) = (self.layers(), self.output_dim());
+        let below_last_hidden = 1..layers.saturating_sub(1);
+        crate::flops::add(2 * (trace.rows * outputs) as u64 * self.products(below_last_hidden));
         let blocks = trace
             .blocks
             .par_iter()
@@ -233,6 +243,17 @@ impl<F: KernelFloat> HostMlp<F> {
             trace.blocks.len(),
             "sensitivities of another trace"
         );
+        // J·v: every layer's x·dW, carried to the outputs (its fan_out × outputs); Jᵀ·u:
+        // every layer's xᵀ·g and 1ᵀ·g, g from the outputs likewise.
+        let outputs = self.output_dim() as u64;
+        let carried: u64 = self.dims[1..self.dims.len() - 1]
+            .iter()
+            .map(|&w| w as u64)
+            .sum();
+        let per_row = 2 * self.products(0..self.layers())
+            + 2 * carried * outputs
+            + self.dims[1..].iter().map(|&w| w as u64).sum::<u64>();
+        crate::flops::add(2 * trace.rows as u64 * per_row);
         let per_block: Vec<Vec<F>> = trace
             .blocks
             .par_iter()
@@ -340,6 +361,10 @@ impl<F: KernelFloat> HostMlp<F> {
             trace.rows * self.output_dim(),
             "upstream of the wrong shape"
         );
+        // xᵀ·dz and 1ᵀ·dz of every layer, dz·Wᵀ of every layer past the first.
+        let per_row = 2 * self.products(0..self.layers()) - self.products(0..1)
+            + self.dims[1..].iter().map(|&w| w as u64).sum::<u64>();
+        crate::flops::add(2 * trace.rows as u64 * per_row);
         let transposed = self.transposed_weights();
         let per_block: Vec<Vec<F>> = trace
             .blocks

@@ -13,11 +13,12 @@ use std::time::Instant;
 
 use anyhow::Result;
 use clap::Args;
+use logo_nn::kernels::KernelFloat;
 use logo_nn::loss::{gaussian_log_prob, mse, value_and_grad, value_and_grad2};
 use logo_nn::{Cpu, Engine, FisherKind, FisherOperator, Policy, PolicyConfig, ValueNetConfig};
 use serde::Serialize;
 
-use crate::bench::median;
+use super::stats::median;
 use crate::engine::{EngineArgs, WithEngine};
 
 #[derive(Args)]
@@ -69,31 +70,36 @@ struct EngineBench {
 /// The three products of one row block (`BLOCK_ROWS`) of a 128-wide hidden layer
 /// (forward x·W, reverse dz·Wᵀ and xᵀ·dz) through `logo_nn::kernels::gemm`, one thread.
 #[derive(Serialize)]
-struct GemmBench {
-    shape: &'static str,
-    ms: f64,
-    gflops: f64,
+pub struct GemmBench {
+    pub shape: &'static str,
+    pub ms: f64,
+    pub gflops: f64,
 }
 
 fn bench_gemm(args: &NnBenchArgs) -> Vec<GemmBench> {
+    block_products::<f64>(args.repeats)
+}
+
+/// [`GemmBench`] of the three products of a 256-row block in float type `F`.
+pub fn block_products<F: KernelFloat>(repeats: usize) -> Vec<GemmBench> {
     use logo_nn::kernels::gemm::{Finish, Start, gemm};
     let (rows, width) = (logo_nn::kernels::mlp::BLOCK_ROWS, 128);
-    let x: Vec<f64> = (0..rows * width)
-        .map(|k| ((k as f64) * 0.37).sin())
+    let x: Vec<F> = (0..rows * width)
+        .map(|k| F::from_f64(((k as f64) * 0.37).sin()))
         .collect();
-    let w: Vec<f64> = (0..width * width)
-        .map(|k| ((k as f64) * 0.11).cos())
+    let w: Vec<F> = (0..width * width)
+        .map(|k| F::from_f64(((k as f64) * 0.11).cos()))
         .collect();
     // (name, (m, k, n), a, a strides, b, b strides)
-    type Shape<'a> = (
+    type Shape<'a, F> = (
         &'static str,
         (usize, usize, usize),
-        &'a [f64],
+        &'a [F],
         (usize, usize),
-        &'a [f64],
+        &'a [F],
         (usize, usize),
     );
-    let shapes: [Shape; 3] = [
+    let shapes: [Shape<F>; 3] = [
         (
             "x·W   256x128x128",
             (rows, width, width),
@@ -123,7 +129,7 @@ fn bench_gemm(args: &NnBenchArgs) -> Vec<GemmBench> {
     shapes
         .iter()
         .map(|&(shape, dims, a, sa, b, sb)| {
-            let mut c = vec![0.0; dims.0 * dims.2];
+            let mut c = vec![F::ZERO; dims.0 * dims.2];
             let mut timed = || {
                 time(|| {
                     for _ in 0..passes {
@@ -134,7 +140,7 @@ fn bench_gemm(args: &NnBenchArgs) -> Vec<GemmBench> {
                 .1 / passes as f64
             };
             timed(); // warm-up
-            let seconds = median((0..args.repeats).map(|_| timed()).collect());
+            let seconds = median((0..repeats).map(|_| timed()).collect());
             GemmBench {
                 shape,
                 ms: seconds * 1e3,
@@ -292,10 +298,10 @@ pub fn run(args: &NnBenchArgs) -> Result<()> {
             EngineArgs {
                 engine: Some(EngineKind::Kernels),
                 backend: None,
-                dtype: Dtype::F64,
+                dtype: Some(Dtype::F64),
             },
-            burn(Dtype::F64),
-            burn(Dtype::F32),
+            burn(Some(Dtype::F64)),
+            burn(Some(Dtype::F32)),
         ]
     };
     let results = engines

@@ -8,20 +8,14 @@
 use std::time::Instant;
 
 use anyhow::Result;
-use clap::{Args, Subcommand};
+use clap::Args;
 use logo_envs::{Env, EnvFactory, EnvOptions, VecEnv};
 use mujoco_rs::prelude::MjData;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-#[derive(Subcommand)]
-pub enum BenchCommand {
-    /// Env steps/s vs a raw mj_step loop (single thread), and the vectorised throughput.
-    Envs(EnvBenchArgs),
-    /// Policy latency, forward+backward and F·v at a training batch, float64 and float32.
-    Nn(crate::bench_nn::NnBenchArgs),
-}
+use super::stats::median;
 
 #[derive(Args)]
 pub struct EnvBenchArgs {
@@ -69,24 +63,7 @@ struct EnvBenchReport {
     envs: Vec<EnvBench>,
 }
 
-pub fn run(cmd: &BenchCommand) -> Result<()> {
-    match cmd {
-        BenchCommand::Envs(args) => bench_envs(args),
-        BenchCommand::Nn(args) => crate::bench_nn::run(args),
-    }
-}
-
-pub fn median(mut x: Vec<f64>) -> f64 {
-    x.sort_by(f64::total_cmp);
-    let n = x.len();
-    if n % 2 == 1 {
-        x[n / 2]
-    } else {
-        0.5 * (x[n / 2 - 1] + x[n / 2])
-    }
-}
-
-fn bench_envs(args: &EnvBenchArgs) -> Result<()> {
+pub fn run(args: &EnvBenchArgs) -> Result<()> {
     anyhow::ensure!(
         args.steps > 0 && args.repeats > 0,
         "--steps and --repeats must be at least 1"
@@ -105,69 +82,8 @@ fn bench_envs(args: &EnvBenchArgs) -> Result<()> {
     for id in &ids {
         let factory = EnvFactory::new(id, &EnvOptions::default())?;
         let spec = factory.spec().clone();
-        let mut rng = ChaCha8Rng::seed_from_u64(0);
-        let actions: Vec<f64> = (0..args.steps)
-            .flat_map(|_| {
-                (0..spec.act_dim)
-                    .map(|j| rng.random_range(spec.action_low[j]..spec.action_high[j]))
-                    .collect::<Vec<_>>()
-            })
-            .collect();
-
-        // Env loop: also records the initial state of every episode, for the raw loop to replay.
-        let mut env = factory.build();
-        let mut obs = vec![0.0; spec.obs_dim];
-        let mut env_loop = |starts: &mut Vec<(usize, Vec<f64>, Vec<f64>)>| -> Result<f64> {
-            starts.clear();
-            env.reset(Some(0), &mut obs);
-            let record =
-                |t: usize, env: &dyn Env| (t, env.state().0.to_vec(), env.state().1.to_vec());
-            starts.push(record(0, &*env));
-            let start = Instant::now();
-            for (t, a) in actions.chunks(spec.act_dim).enumerate() {
-                if env.step(a, &mut obs)?.done() {
-                    env.reset(None, &mut obs);
-                    starts.push(record(t + 1, &*env));
-                }
-            }
-            Ok(args.steps as f64 / start.elapsed().as_secs_f64())
-        };
-        // The same physics without the env: same initial states, same actions, same steps.
-        let mut data = MjData::new(factory.model().clone());
-        let mut raw_loop = |starts: &[(usize, Vec<f64>, Vec<f64>)]| -> f64 {
-            let set = |data: &mut MjData<_>, (_, qpos, qvel): &(usize, Vec<f64>, Vec<f64>)| {
-                data.reset();
-                data.qpos_mut().copy_from_slice(qpos);
-                data.qvel_mut().copy_from_slice(qvel);
-                data.forward();
-            };
-            set(&mut data, &starts[0]);
-            let mut next = starts.iter().skip(1).peekable();
-            let start = Instant::now();
-            for (t, a) in actions.chunks(spec.act_dim).enumerate() {
-                data.ctrl_mut().copy_from_slice(a);
-                for _ in 0..spec.frame_skip {
-                    data.step();
-                }
-                if let Some(s) = next.next_if(|s| s.0 == t + 1) {
-                    set(&mut data, s);
-                }
-            }
-            args.steps as f64 / start.elapsed().as_secs_f64()
-        };
-
-        let mut starts = Vec::new();
-        env_loop(&mut starts)?; // warm-up, and the episodes' initial states
-        let (mut env_rates, mut raw_rates, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
-        let mut scratch = Vec::new();
-        for _ in 0..args.repeats {
-            let raw = raw_loop(&starts);
-            let env_rate = env_loop(&mut scratch)?;
-            raw_rates.push(raw);
-            env_rates.push(env_rate);
-            ratios.push(env_rate / raw);
-        }
-
+        let single = single_thread_rates(&factory, args.steps, args.repeats)?;
+        let actions = single.actions;
         // Vectorised: every copy gets its own slice of the action stream. One-thread and
         // `threads`-thread runs alternate, so a slow spell of the machine hits both.
         let n = args.vec_envs;
@@ -198,13 +114,12 @@ fn bench_envs(args: &EnvBenchArgs) -> Result<()> {
             vec_rates.push(many);
             speedups.push(many / one);
         }
-        let env_steps_per_s = median(env_rates);
         results.push(EnvBench {
             id: id.clone(),
             frame_skip: spec.frame_skip,
-            env_steps_per_s,
-            raw_env_steps_per_s: median(raw_rates),
-            ratio: median(ratios),
+            env_steps_per_s: single.env_steps_per_s,
+            raw_env_steps_per_s: single.raw_env_steps_per_s,
+            ratio: single.ratio,
             vec_threads: args.threads,
             vec_envs: args.vec_envs,
             vec_env_steps_per_s: median(vec_rates),
@@ -244,4 +159,91 @@ fn bench_envs(args: &EnvBenchArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// One thread's env steps/s through the env and through a bare `mj_step` loop on the same
+/// model (medians of alternated repeats), and the uniform-random actions both took.
+pub struct SingleThread {
+    pub env_steps_per_s: f64,
+    pub raw_env_steps_per_s: f64,
+    /// Median of the per-repeat env/raw ratios.
+    pub ratio: f64,
+    pub actions: Vec<f64>,
+}
+
+/// [`SingleThread`] rates of `factory`'s env over `steps` env steps, `repeats` times.
+pub fn single_thread_rates(
+    factory: &EnvFactory,
+    steps: usize,
+    repeats: usize,
+) -> Result<SingleThread> {
+    let spec = factory.spec().clone();
+    let mut rng = ChaCha8Rng::seed_from_u64(0);
+    let actions: Vec<f64> = (0..steps)
+        .flat_map(|_| {
+            (0..spec.act_dim)
+                .map(|j| rng.random_range(spec.action_low[j]..spec.action_high[j]))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+
+    // Env loop: also records the initial state of every episode, for the raw loop to replay.
+    let mut env = factory.build();
+    let mut obs = vec![0.0; spec.obs_dim];
+    let mut env_loop = |starts: &mut Vec<(usize, Vec<f64>, Vec<f64>)>| -> Result<f64> {
+        starts.clear();
+        env.reset(Some(0), &mut obs);
+        let record = |t: usize, env: &dyn Env| (t, env.state().0.to_vec(), env.state().1.to_vec());
+        starts.push(record(0, &*env));
+        let start = Instant::now();
+        for (t, a) in actions.chunks(spec.act_dim).enumerate() {
+            if env.step(a, &mut obs)?.done() {
+                env.reset(None, &mut obs);
+                starts.push(record(t + 1, &*env));
+            }
+        }
+        Ok(steps as f64 / start.elapsed().as_secs_f64())
+    };
+    // The same physics without the env: same initial states, same actions, same steps.
+    let mut data = MjData::new(factory.model().clone());
+    let mut raw_loop = |starts: &[(usize, Vec<f64>, Vec<f64>)]| -> f64 {
+        let set = |data: &mut MjData<_>, (_, qpos, qvel): &(usize, Vec<f64>, Vec<f64>)| {
+            data.reset();
+            data.qpos_mut().copy_from_slice(qpos);
+            data.qvel_mut().copy_from_slice(qvel);
+            data.forward();
+        };
+        set(&mut data, &starts[0]);
+        let mut next = starts.iter().skip(1).peekable();
+        let start = Instant::now();
+        for (t, a) in actions.chunks(spec.act_dim).enumerate() {
+            data.ctrl_mut().copy_from_slice(a);
+            for _ in 0..spec.frame_skip {
+                data.step();
+            }
+            if let Some(s) = next.next_if(|s| s.0 == t + 1) {
+                set(&mut data, s);
+            }
+        }
+        steps as f64 / start.elapsed().as_secs_f64()
+    };
+
+    let mut starts = Vec::new();
+    env_loop(&mut starts)?; // warm-up, and the episodes' initial states
+    let (mut env_rates, mut raw_rates, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    let mut scratch = Vec::new();
+    for _ in 0..repeats {
+        let raw = raw_loop(&starts);
+        let env_rate = env_loop(&mut scratch)?;
+        raw_rates.push(raw);
+        env_rates.push(env_rate);
+        ratios.push(env_rate / raw);
+    }
+
+    Ok(SingleThread {
+        env_steps_per_s: median(env_rates),
+        raw_env_steps_per_s: median(raw_rates),
+        ratio: median(ratios),
+        actions,
+    })
 }

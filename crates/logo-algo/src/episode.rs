@@ -1,0 +1,101 @@
+//! One episode of a fixed policy, and the evaluation made of such episodes: the one
+//! episode loop that training's evaluation, `logo eval` and `logo rollout` share.
+
+use logo_envs::{Env, EnvError};
+use logo_nn::ActingPolicy;
+
+/// One episode's totals.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Episode {
+    /// The env's own (e.g. sparse) return.
+    pub return_: f64,
+    pub dense_return: f64,
+    pub length: usize,
+    /// Ended by the MDP (a fall), not by the time limit.
+    pub terminated: bool,
+    /// `qpos[0]` at the end minus at the start: forward distance for the locomotion envs,
+    /// the cart's travel for IDP.
+    pub moved: f64,
+    /// Root mean square over every action component of every step, as given to the env
+    /// (before MuJoCo clamps it to the actuator range).
+    pub action_rms: f64,
+}
+
+/// Runs one episode from `reset(seed)` to its end, acting with `act`.
+pub fn run_episode(
+    env: &mut dyn Env,
+    seed: u64,
+    mut act: impl FnMut(&[f64]) -> Vec<f64>,
+) -> Result<Episode, EnvError> {
+    let mut obs = vec![0.0; env.spec().obs_dim];
+    env.reset(Some(seed), &mut obs);
+    let x_start = env.x_position();
+    let (mut return_, mut dense_return, mut length, mut squared_action) = (0.0, 0.0, 0, 0.0);
+    loop {
+        let action = act(&obs);
+        squared_action += action.iter().map(|a| a * a).sum::<f64>();
+        let step = env.step(&action, &mut obs)?;
+        return_ += step.reward;
+        dense_return += step.info.dense_reward;
+        length += 1;
+        if step.done() {
+            let components = (length * env.spec().act_dim) as f64;
+            return Ok(Episode {
+                return_,
+                dense_return,
+                length,
+                terminated: step.terminated,
+                moved: env.x_position() - x_start,
+                action_rms: (squared_action / components).sqrt(),
+            });
+        }
+    }
+}
+
+/// What a training run's evaluation reports: means over its episodes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Evaluation {
+    pub dense_return: f64,
+    pub moved: f64,
+    pub action_rms: f64,
+}
+
+/// The reset seed of evaluation episode `episode` of a run with `seed`: the same at every
+/// iteration, so that evaluations compare the policies on the same initial states.
+pub fn evaluation_seed(seed: u64, episode: usize) -> u64 {
+    1_000_000 + seed * 1000 + episode as u64
+}
+
+/// The mean action of `policy` over whole episodes of at least `min_steps` steps in all,
+/// from the fixed initial states of [`evaluation_seed`].
+pub fn evaluate(
+    env: &mut dyn Env,
+    policy: &ActingPolicy,
+    seed: u64,
+    min_steps: usize,
+) -> Result<Evaluation, EnvError> {
+    let (mut steps, mut episodes) = (0, Vec::new());
+    while steps < min_steps {
+        let episode = run_episode(env, evaluation_seed(seed, episodes.len()), |obs| {
+            policy.mean(obs)
+        })?;
+        steps += episode.length;
+        episodes.push(episode);
+    }
+    let mean = |of: fn(&Episode) -> f64| {
+        episodes.iter().map(of).sum::<f64>() / episodes.len().max(1) as f64
+    };
+    Ok(Evaluation {
+        dense_return: mean(|e| e.dense_return),
+        moved: mean(|e| e.moved),
+        action_rms: mean(|e| e.action_rms),
+    })
+}
+
+/// Mean and population standard deviation.
+pub fn mean_std(x: &[f64]) -> (f64, f64) {
+    let n = x.len().max(1) as f64;
+    let mean = x.iter().sum::<f64>() / n;
+    let var = x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n;
+    (mean, var.sqrt())
+}
