@@ -52,7 +52,7 @@ impl DeltaSchedule {
     pub fn check(&self, delta0: f64) -> Result<(), String> {
         if !(self.delta.is_finite() && self.delta >= DELTA_FLOOR && self.delta <= delta0) {
             return Err(format!(
-                "δ_k = {} is outside [{DELTA_FLOOR}, δ_0 = {delta0}]",
+                "δ_k = {} is outside [{DELTA_FLOOR:e}, δ_0 = {delta0}]",
                 self.delta
             ));
         }

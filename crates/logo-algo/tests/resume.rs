@@ -218,7 +218,7 @@ fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
     assert!(err.contains("1 samples in 2 iterations"), "{err}");
     let err = resume_edited(&|c| c.meta.extra["resume"]["iteration"] = serde_json::json!(1));
     assert!(
-        err.contains("iteration is 2, its config (or resume state) says 1"),
+        err.contains("iteration is 2, its resume state says 1"),
         "{err}"
     );
     for engines in [

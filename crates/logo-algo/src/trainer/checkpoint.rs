@@ -127,17 +127,18 @@ fn read_resume_state(
             format!("{:?}", meta.networks.get("critic")),
             format!("{:?}", Some(&config.critic.hidden)),
         ),
-        (
-            "iteration",
-            meta.iteration.to_string(),
-            state.iteration.to_string(),
-        ),
     ] {
         if found != expected {
             return Err(format!(
-                "the metadata's {what} is {found}, its config (or resume state) says {expected}"
+                "the metadata's {what} is {found}, its config says {expected}"
             ));
         }
+    }
+    if meta.iteration != state.iteration as u64 {
+        return Err(format!(
+            "the metadata's iteration is {}, its resume state says {}",
+            meta.iteration, state.iteration
+        ));
     }
     Ok((config, state))
 }
