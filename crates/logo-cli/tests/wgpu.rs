@@ -233,14 +233,13 @@ fn a_wgpu_run_is_evaluated_and_resumed_on_the_cpu() {
         text
     };
     let run = dir.join("run");
+    // No --dtype: the GPU backends have float32 only, and it is taken.
     let trained = logo(&[
         "train",
         "--config",
         config.to_str().unwrap(),
         "--backend",
         "wgpu",
-        "--dtype",
-        "f32",
         "--out",
         run.to_str().unwrap(),
     ]);
@@ -272,5 +271,56 @@ fn a_wgpu_run_is_evaluated_and_resumed_on_the_cpu() {
     assert!(
         resumed.contains("kernels f64") && resumed.contains("[   3/3]"),
         "{resumed}"
+    );
+}
+
+/// With no adapter to run on (here: the Vulkan loader pointed at no driver), `--backend
+/// wgpu` is a one-line error naming what to install, not a panic inside burn's runtime;
+/// `--dtype f64` on it is refused before anything starts.
+#[test]
+fn no_wgpu_adapter_is_an_error_naming_the_driver_to_install() {
+    if !vulkan() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("logo-wgpu-none-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let config = dir.join("tiny.toml");
+    std::fs::write(
+        &config,
+        "env = \"SparseInvertedDoublePendulum-v4\"\niterations = 1\nsamples_per_iter = 300\n\
+         policy_hidden = [16, 16]\neval_steps = 100\n[critic]\nhidden = [16, 16]\n",
+    )
+    .unwrap();
+    let train = |extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_logo"))
+            .args(["train", "--config", config.to_str().unwrap()])
+            .args([
+                "--out",
+                dir.join("run").to_str().unwrap(),
+                "--backend",
+                "wgpu",
+            ])
+            .args(extra)
+            .env("VK_ICD_FILENAMES", dir.join("no-such-driver.json"))
+            .env("XDG_RUNTIME_DIR", &dir)
+            .output()
+            .unwrap()
+    };
+    let out = train(&[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("wgpu found no adapter")
+            && stderr.contains("mesa-vulkan-drivers")
+            && !stderr.contains("panicked"),
+        "{stderr}"
+    );
+    let out = train(&["--dtype", "f64"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success()
+            && stderr.contains("--dtype f64: the GPU backends compute in float32"),
+        "{stderr}"
     );
 }

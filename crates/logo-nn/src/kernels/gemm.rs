@@ -120,14 +120,16 @@ pub fn gemm_to_vec<F: KernelFloat>(
     match start {
         Start::Bias(bias) if n > 0 => {
             assert_eq!(bias.len(), n, "gemm bias of the wrong length");
-            for row in c.spare_capacity_mut().chunks_exact_mut(n) {
-                for (slot, &value) in row.iter_mut().zip(bias) {
-                    slot.write(value);
-                }
+            for row in c.spare_capacity_mut()[..m * n].chunks_exact_mut(n) {
+                // SAFETY: `row` is n uninitialised elements of `c`'s spare capacity and
+                // `bias` n initialised ones; the two do not overlap.
+                unsafe {
+                    std::ptr::copy_nonoverlapping(bias.as_ptr(), row.as_mut_ptr().cast::<F>(), n)
+                };
             }
         }
         _ if overwritten => {}
-        _ => c.spare_capacity_mut().iter_mut().for_each(|slot| {
+        _ => c.spare_capacity_mut()[..m * n].iter_mut().for_each(|slot| {
             slot.write(F::ZERO);
         }),
     }
