@@ -13,7 +13,7 @@
 //! | `episode.rs` | one episode of a fixed policy; the evaluation |
 //! | `streams.rs` | the table of random streams |
 //! | `trainer/` | the iteration (`mod.rs`), building a run (`build.rs`), checkpoints and resume (`checkpoint.rs`) |
-//! | `metrics.rs`, `run_dir.rs` | `metrics.csv` and the run's folder |
+//! | `metrics.rs`, `run_dir.rs`, `tensorboard.rs` | `metrics.csv`, TensorBoard's event file and the run's folder |
 //! | `config.rs`, `validate.rs` | the TOML config, and the checks its tables share |
 
 pub mod adam;
@@ -31,6 +31,7 @@ pub mod policy_update;
 pub mod run_dir;
 pub mod sampler;
 pub mod streams;
+pub mod tensorboard;
 pub mod trainer;
 pub mod validate;
 

@@ -103,7 +103,11 @@ fn io(path: &Path, e: std::io::Error) -> String {
 impl EventWriter {
     /// A new event file in `dir` holding the config (as text) and `rows`, replacing the
     /// folder's earlier event files once it is complete.
-    pub fn create(dir: &Path, config_text: &str, rows: &[IterationMetrics]) -> Result<Self, String> {
+    pub fn create(
+        dir: &Path,
+        config_text: &str,
+        rows: &[IterationMetrics],
+    ) -> Result<Self, String> {
         let name = format!("events.out.tfevents.{:.0}.logo", now());
         let path = dir.join(&name);
         let tmp = dir.join(format!("{name}.tmp.{}", std::process::id()));
@@ -168,9 +172,7 @@ impl EventWriter {
         record.extend_from_slice(&masked_crc(&length).to_le_bytes());
         record.extend_from_slice(&data);
         record.extend_from_slice(&masked_crc(&data).to_le_bytes());
-        self.file
-            .write_all(&record)
-            .map_err(|e| io(&self.path, e))
+        self.file.write_all(&record).map_err(|e| io(&self.path, e))
     }
 }
 

@@ -72,6 +72,10 @@ pub struct TrainArgs {
     /// metrics and checkpoints.
     #[arg(long, value_enum, default_value_t = ScheduleArg::Pipelined)]
     schedule: ScheduleArg,
+    /// Write no TensorBoard event file (by default the run folder gets one, flushed each
+    /// iteration: `tensorboard --logdir runs/`).
+    #[arg(long)]
+    no_tensorboard: bool,
     #[command(flatten)]
     engine: EngineArgs,
 }
@@ -100,6 +104,7 @@ pub fn run(args: &TrainArgs) -> Result<()> {
             start,
             stop,
             schedule,
+            tensorboard: !args.no_tensorboard,
         });
     }
     let config_path = args.config.as_ref().expect("clap: --config or --resume");
@@ -127,6 +132,7 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         start,
         stop,
         schedule,
+        tensorboard: !args.no_tensorboard,
     })
 }
 
@@ -135,6 +141,7 @@ struct Train {
     start: Start,
     stop: Option<(f64, StopMetric)>,
     schedule: Schedule,
+    tensorboard: bool,
 }
 
 impl WithEngine for Train {
@@ -149,6 +156,7 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         start,
         stop,
         schedule,
+        tensorboard,
     } = job;
     let (mut trainer, out) = match start {
         Start::New(config, out) => {
@@ -169,6 +177,11 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         }
     };
     trainer.set_schedule(schedule);
+    if tensorboard {
+        trainer
+            .write_tensorboard()
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
     let config = trainer.config.clone();
     println!(
         "{} on {} (eval: {}), {} iterations x {} samples, seed {}, {} envs on {} threads, {} -> {}",

@@ -94,6 +94,7 @@ impl<E: Engine> Trainer<E> {
             wall_offset: 0.0,
             engines,
             saved_at: None,
+            events: None,
             config,
             engine,
             run,

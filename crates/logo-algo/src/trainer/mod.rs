@@ -40,6 +40,7 @@ use crate::run_dir::RunDir;
 pub use crate::run_dir::TrainError;
 use crate::sampler::{Batch, Sampler};
 use crate::streams::{Stream, generator};
+use crate::tensorboard::EventWriter;
 pub use checkpoint::{EngineSpan, engine_history};
 
 /// How an iteration's steps are laid over the run's worker threads. Either way every
@@ -83,6 +84,8 @@ pub struct Trainer<E: Engine> {
     engines: Vec<EngineSpan>,
     /// The iteration count of the last checkpoint written (or resumed from).
     saved_at: Option<usize>,
+    /// TensorBoard's event file, once [`Trainer::write_tensorboard`] opened it.
+    events: Option<EventWriter>,
 }
 
 /// Step 1's state: the env copies, how batches are cut, and the sampler's generator.
@@ -408,6 +411,16 @@ impl<E: Engine> Trainer<E> {
         self.schedule = schedule;
     }
 
+    /// From now on, every row of metrics.csv also goes to a TensorBoard event file in the
+    /// run folder (written anew from the rows metrics.csv holds, so a resumed run's curves
+    /// continue without the redone iterations twice), flushed each iteration.
+    pub fn write_tensorboard(&mut self) -> Result<(), TrainError> {
+        let rows = self.run.read_metrics()?;
+        let config = toml::to_string(&self.config)?;
+        self.events = Some(EventWriter::create(self.run.path(), &config, &rows)?);
+        Ok(())
+    }
+
     /// Runs one iteration and appends its row to `metrics.csv`; an error names the
     /// iteration.
     pub fn step(&mut self) -> Result<IterationMetrics, TrainError> {
@@ -667,6 +680,9 @@ impl<E: Engine> Trainer<E> {
         row.improvement(&steps.improvement);
         row.guidance(steps.guidance.as_ref());
         self.run.append(&row)?;
+        if let Some(events) = self.events.as_mut() {
+            events.append(&row)?;
+        }
         self.next_batch = next;
         if self.iteration.is_multiple_of(self.config.checkpoint_every) || self.done() {
             self.save_checkpoint(&self.run.checkpoint_path())?;
