@@ -21,6 +21,17 @@ export LD_LIBRARY_PATH="$root/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBR
 echo "== parity fixtures vs the Gymnasium 1.4.0 oracle"
 .venv/bin/python -W ignore tests/parity/generate.py --check tests/parity/fixtures
 
+# Videos (crates/logo-cli/tests/video.rs): ffmpeg encodes, Mesa's EGL renders offscreen.
+if ! command -v ffmpeg >/dev/null || ! ls /usr/lib/*/libEGL_mesa.so.0 >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    echo "== installing ffmpeg and Mesa's EGL (libegl1 libegl-mesa0 libgl1-mesa-dri) for the video tests"
+    pkgs="ffmpeg libegl1 libegl-mesa0 libgl1-mesa-dri"
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -q $pkgs >/dev/null \
+      || { apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $pkgs >/dev/null; }
+  fi
+fi
+[ "${CI:-}" = true ] && export LOGO_REQUIRE_VIDEO=1
+
 echo "== cargo test --release --workspace"
 cargo test --release --workspace "$@"
 

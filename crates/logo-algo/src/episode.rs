@@ -25,29 +25,45 @@ pub struct Episode {
 pub fn run_episode(
     env: &mut dyn Env,
     seed: u64,
-    mut act: impl FnMut(&[f64]) -> Vec<f64>,
+    act: impl FnMut(&[f64]) -> Vec<f64>,
 ) -> Result<Episode, EnvError> {
+    run_episode_with(env, seed, act, |_, _| Ok(()))
+}
+
+/// [`run_episode`], calling `after_step` with the env and the episode's totals so far
+/// after every step (a video's frames).
+pub fn run_episode_with<E: From<EnvError>>(
+    env: &mut dyn Env,
+    seed: u64,
+    mut act: impl FnMut(&[f64]) -> Vec<f64>,
+    mut after_step: impl FnMut(&dyn Env, &Episode) -> Result<(), E>,
+) -> Result<Episode, E> {
     let mut obs = vec![0.0; env.spec().obs_dim];
     env.reset(Some(seed), &mut obs);
     let x_start = env.x_position();
-    let (mut return_, mut dense_return, mut length, mut squared_action) = (0.0, 0.0, 0, 0.0);
+    let mut episode = Episode {
+        return_: 0.0,
+        dense_return: 0.0,
+        length: 0,
+        terminated: false,
+        moved: 0.0,
+        action_rms: 0.0,
+    };
+    let mut squared_action = 0.0;
     loop {
         let action = act(&obs);
         squared_action += action.iter().map(|a| a * a).sum::<f64>();
         let step = env.step(&action, &mut obs)?;
-        return_ += step.reward;
-        dense_return += step.info.dense_reward;
-        length += 1;
+        episode.return_ += step.reward;
+        episode.dense_return += step.info.dense_reward;
+        episode.length += 1;
+        episode.terminated = step.terminated;
+        episode.moved = env.x_position() - x_start;
+        let components = (episode.length * env.spec().act_dim) as f64;
+        episode.action_rms = (squared_action / components).sqrt();
+        after_step(&*env, &episode)?;
         if step.done() {
-            let components = (length * env.spec().act_dim) as f64;
-            return Ok(Episode {
-                return_,
-                dense_return,
-                length,
-                terminated: step.terminated,
-                moved: env.x_position() - x_start,
-                action_rms: (squared_action / components).sqrt(),
-            });
+            return Ok(episode);
         }
     }
 }

@@ -10,6 +10,7 @@ use logo_nn::{
 };
 
 use crate::engine::{EngineArgs, WithEngine};
+use crate::video::{Video, VideoArgs, record_episode};
 use logo_algo::episode::{Episode, mean_std, run_episode};
 
 #[derive(Args)]
@@ -28,6 +29,9 @@ pub struct EvalArgs {
     /// checkpoint); episodes act with its host copy, as training does.
     #[command(flatten)]
     engine: EngineArgs,
+    /// `--video OUT.mp4` records the first env's episodes (the dense one by default).
+    #[command(flatten)]
+    video: VideoArgs,
 }
 
 /// The checkpoint's policy, converted onto the chosen engine and copied back for acting.
@@ -92,15 +96,14 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         },
         args.episodes
     );
-    for id in ids {
+    for (i, id) in ids.iter().enumerate() {
         // Name where the id came from: the flag, or the checkpoint's metadata.
         let source = match &args.env {
             Some(_) => format!("--env {id}"),
             None => format!("{}: env_id {id}", args.checkpoint.display()),
         };
-        let mut env = EnvFactory::new(&id, &EnvOptions::default())
-            .with_context(|| source)?
-            .build();
+        let factory = EnvFactory::new(id, &EnvOptions::default()).with_context(|| source)?;
+        let mut env = factory.build();
         let spec = env.spec().clone();
         anyhow::ensure!(
             (spec.obs_dim, spec.act_dim) == (meta.obs_dim, meta.act_dim),
@@ -110,9 +113,27 @@ pub fn run(args: &EvalArgs) -> Result<()> {
             meta.obs_dim,
             meta.act_dim
         );
-        let episodes = (0..args.episodes as u64)
-            .map(|episode| run_episode(env.as_mut(), args.seed + episode, |obs| acting.mean(obs)))
-            .collect::<Result<Vec<_>, _>>()?;
+        let seeds = (0..args.episodes as u64).map(|episode| args.seed + episode);
+        let episodes = match (&args.video.video, i) {
+            (Some(path), 0) => {
+                let mut video = Video::start(path, &factory, args.video.frames())?;
+                let episodes = seeds
+                    .enumerate()
+                    .map(|(k, seed)| {
+                        let label = format!("episode {} | ", k + 1);
+                        record_episode(&mut video, env.as_mut(), seed, &label, |obs| {
+                            acting.mean(obs)
+                        })
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                let frames = video.finish()?;
+                println!("video: {} ({frames} frames of {id})", path.display());
+                episodes
+            }
+            _ => seeds
+                .map(|seed| run_episode(env.as_mut(), seed, |obs| acting.mean(obs)))
+                .collect::<Result<Vec<_>, _>>()?,
+        };
         println!("{id:32} {}", summary(&episodes));
     }
     Ok(())

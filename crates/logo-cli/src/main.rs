@@ -10,6 +10,7 @@ mod slurm;
 mod summary;
 mod sweep;
 mod train;
+mod video;
 
 use std::process::ExitCode;
 

@@ -3,6 +3,8 @@
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use logo_algo::episode::{mean_std, run_episode};
+
+use crate::video::{Video, VideoArgs, record_episode};
 use logo_envs::{EnvFactory, EnvOptions, all_env_ids};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -45,6 +47,9 @@ pub struct RolloutArgs {
     seed: u64,
     #[arg(long, value_enum, default_value_t = FixedPolicy::Random)]
     policy: FixedPolicy,
+    /// `--video OUT.mp4` records the episodes.
+    #[command(flatten)]
+    video: VideoArgs,
 }
 
 pub fn run(args: &RolloutArgs) -> Result<()> {
@@ -53,6 +58,10 @@ pub fn run(args: &RolloutArgs) -> Result<()> {
         .with_context(|| format!("--env {}", args.env))?;
     let mut env = factory.build();
     let spec = env.spec().clone();
+    let mut video = match &args.video.video {
+        Some(path) => Some(Video::start(path, &factory, args.video.frames())?),
+        None => None,
+    };
     let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
     println!(
         "{} with a {} policy, seed {}",
@@ -70,7 +79,14 @@ pub fn run(args: &RolloutArgs) -> Result<()> {
                 })
                 .collect()
         };
-        let e = run_episode(env.as_mut(), args.seed + episode as u64, act)?;
+        let seed = args.seed + episode as u64;
+        let e = match video.as_mut() {
+            Some(video) => {
+                let label = format!("episode {} | ", episode + 1);
+                record_episode(video, env.as_mut(), seed, &label, act)?
+            }
+            None => run_episode(env.as_mut(), seed, act)?,
+        };
         let end = if e.terminated {
             "terminated"
         } else {
@@ -81,6 +97,10 @@ pub fn run(args: &RolloutArgs) -> Result<()> {
             e.length, e.return_, e.dense_return
         );
         episodes.push(e);
+    }
+    if let (Some(video), Some(path)) = (video, &args.video.video) {
+        let frames = video.finish()?;
+        println!("video: {} ({frames} frames)", path.display());
     }
     let (m, s) = mean_std(&episodes.iter().map(|e| e.return_).collect::<Vec<_>>());
     let (dm, ds) = mean_std(&episodes.iter().map(|e| e.dense_return).collect::<Vec<_>>());

@@ -1,14 +1,17 @@
 //! `logo train`: run TRPO or LOGO from a TOML config, with a progress line per iteration,
 //! `metrics.csv` and checkpoints in the output folder.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
+use logo_algo::episode::evaluation_seed;
 use logo_algo::{Schedule, TrainConfig, Trainer};
+use logo_envs::{EnvFactory, EnvOptions};
 use logo_nn::Engine;
 
 use crate::engine::{EngineArgs, WithEngine};
+use crate::video::{Frames, Video, record_episode};
 
 /// How each iteration's steps are laid over the threads (the numbers are the same).
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
@@ -72,6 +75,12 @@ pub struct TrainArgs {
     /// metrics and checkpoints.
     #[arg(long, value_enum, default_value_t = ScheduleArg::Pipelined)]
     schedule: ScheduleArg,
+    /// Every N iterations, a video of the mean-action policy (one episode of the dense
+    /// evaluation env from the evaluation's first initial state, 480×480) into
+    /// DIR/videos/iteration-<k>.mp4. It uses its own env and no random stream: the run's
+    /// numbers are the same with it or without it.
+    #[arg(long, value_name = "N")]
+    video_every: Option<usize>,
     /// Write no TensorBoard event file (by default the run folder gets one, flushed each
     /// iteration: `tensorboard --logdir runs/`).
     #[arg(long)]
@@ -90,6 +99,10 @@ pub fn run(args: &TrainArgs) -> Result<()> {
     if let Some(iterations) = args.iterations {
         anyhow::ensure!(iterations > 0, "--iterations must be at least 1");
     }
+    anyhow::ensure!(
+        args.video_every != Some(0),
+        "--video-every must be at least 1"
+    );
     if let Some(target) = args.stop_at_return {
         anyhow::ensure!(
             target.is_finite(),
@@ -105,6 +118,7 @@ pub fn run(args: &TrainArgs) -> Result<()> {
             stop,
             schedule,
             tensorboard: !args.no_tensorboard,
+            video_every: args.video_every,
         });
     }
     let config_path = args.config.as_ref().expect("clap: --config or --resume");
@@ -133,6 +147,7 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         stop,
         schedule,
         tensorboard: !args.no_tensorboard,
+        video_every: args.video_every,
     })
 }
 
@@ -142,6 +157,7 @@ struct Train {
     stop: Option<(f64, StopMetric)>,
     schedule: Schedule,
     tensorboard: bool,
+    video_every: Option<usize>,
 }
 
 impl WithEngine for Train {
@@ -157,6 +173,7 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         stop,
         schedule,
         tensorboard,
+        video_every,
     } = job;
     let (mut trainer, out) = match start {
         Start::New(config, out) => {
@@ -202,6 +219,9 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
     let mut last = None;
     while !trainer.done() {
         let m = trainer.step().map_err(|e| anyhow::anyhow!("{e}"))?;
+        if video_every.is_some_and(|n| (m.iteration + 1).is_multiple_of(n)) {
+            record_iteration(&trainer, &out, m.iteration + 1)?;
+        }
         if m.eval_dense_return > best.0 {
             best = (m.eval_dense_return, m.iteration);
         }
@@ -256,6 +276,37 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         best.1 + 1,
         out.join("metrics.csv").display(),
         out.join("checkpoint.safetensors").display()
+    );
+    Ok(())
+}
+
+/// The video of `--video-every`: the mean action of the policy after `iteration`
+/// iterations, one episode of the evaluation env from its first initial state.
+fn record_iteration<E: Engine>(trainer: &Trainer<E>, out: &Path, iteration: usize) -> Result<()> {
+    let config = &trainer.config;
+    let factory = EnvFactory::new(&config.eval_env_id(), &EnvOptions::default())?;
+    let dir = out.join("videos");
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+    let path = dir.join(format!("iteration-{iteration:05}.mp4"));
+    let frames = Frames {
+        width: 480,
+        height: 480,
+        fps: None,
+    };
+    let mut video = Video::start(&path, &factory, frames)?;
+    let acting = trainer.policy().acting(trainer.engine());
+    let mut env = factory.build();
+    let label = format!("iteration {iteration} | ");
+    let seed = evaluation_seed(config.seed, 0);
+    let episode = record_episode(&mut video, env.as_mut(), seed, &label, |obs| {
+        acting.mean(obs)
+    })?;
+    video.finish()?;
+    println!(
+        "video: {} (dense return {:.1}, {} steps)",
+        path.display(),
+        episode.dense_return,
+        episode.length
     );
     Ok(())
 }

@@ -19,6 +19,9 @@ mod sparse;
 mod vec_env;
 mod walker2d;
 
+#[cfg(feature = "render")]
+pub mod render;
+
 pub use env::{Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo};
 pub use half_cheetah::HalfCheetah;
 pub use hopper::Hopper;

@@ -1,0 +1,261 @@
+//! Videos of policies, decoded by ffmpeg/ffprobe: one frame per step at the stated size,
+//! frames that change as the robot moves and that differ between two policies; clear
+//! errors for bad input and for a missing renderer or encoder; and `--video-every`, which
+//! leaves a run's metrics and checkpoint bit-identical. Needs ffmpeg and an EGL driver
+//! (Mesa's, `scripts/test.sh` installs them on CI); skipped without them unless
+//! LOGO_REQUIRE_VIDEO is set (CI sets it).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn have(program: &str) -> bool {
+    Command::new(program).arg("-version").output().is_ok()
+}
+
+fn available() -> bool {
+    let egl = [
+        "/usr/lib/x86_64-linux-gnu/libEGL.so.1",
+        "/usr/lib/libEGL.so.1",
+    ]
+    .iter()
+    .any(|p| Path::new(p).exists());
+    let ok = egl && have("ffmpeg") && have("ffprobe");
+    if !ok {
+        assert!(
+            std::env::var_os("LOGO_REQUIRE_VIDEO").is_none(),
+            "LOGO_REQUIRE_VIDEO is set but ffmpeg or libEGL is missing (apt-get install ffmpeg \
+             libegl1 libegl-mesa0 libgl1-mesa-dri)"
+        );
+        eprintln!("skipped: no ffmpeg or no libEGL");
+    }
+    ok
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("logo-video-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn logo(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_logo"));
+    command.args(args);
+    for (key, value) in env {
+        command.env(key, value);
+    }
+    command.output().unwrap()
+}
+
+fn succeed(args: &[&str]) -> String {
+    let out = logo(args, &[]);
+    assert!(
+        out.status.success(),
+        "logo {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn failure(args: &[&str], env: &[(&str, &str)]) -> String {
+    let out = logo(args, env);
+    assert!(!out.status.success(), "logo {} succeeded", args.join(" "));
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    stderr
+}
+
+/// Every frame of `video` as RGB bytes, and its (width, height) per ffprobe.
+fn decode(video: &Path) -> (Vec<Vec<u8>>, (usize, usize)) {
+    let probe = Command::new("ffprobe")
+        .args(["-v", "error", "-select_streams", "v:0", "-count_frames"])
+        .args([
+            "-show_entries",
+            "stream=width,height,nb_read_frames",
+            "-of",
+            "csv=p=0",
+        ])
+        .arg(video)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&probe.stdout);
+    let fields: Vec<usize> = text.trim().split(',').map(|f| f.parse().unwrap()).collect();
+    let (width, height, count) = (fields[0], fields[1], fields[2]);
+    let raw = Command::new("ffmpeg")
+        .args(["-v", "error", "-i"])
+        .arg(video)
+        .args(["-f", "rawvideo", "-pix_fmt", "rgb24", "-"])
+        .output()
+        .unwrap()
+        .stdout;
+    let frames: Vec<Vec<u8>> = raw.chunks(width * height * 3).map(<[u8]>::to_vec).collect();
+    assert_eq!(frames.len(), count, "ffprobe's and ffmpeg's frame counts");
+    (frames, (width, height))
+}
+
+/// Mean absolute difference of two frames' lower halves (below any caption).
+fn difference(a: &[u8], b: &[u8]) -> f64 {
+    let half = a.len() / 2;
+    let sum: u64 = a[half..]
+        .iter()
+        .zip(&b[half..])
+        .map(|(x, y)| x.abs_diff(*y) as u64)
+        .sum();
+    sum as f64 / half as f64
+}
+
+/// The steps `logo rollout` printed for its one episode.
+fn steps(stdout: &str) -> usize {
+    let at = stdout.find("episode 0:").unwrap();
+    stdout[at + 10..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn a_rollout_video_has_a_frame_per_step_that_moves_and_differs_between_policies() {
+    if !available() {
+        return;
+    }
+    let dir = scratch("rollout");
+    let video = |policy: &str| {
+        let path = dir.join(format!("{policy}.mp4"));
+        let printed = succeed(&[
+            "rollout",
+            "--env",
+            "Hopper-v4",
+            "--episodes",
+            "1",
+            "--seed",
+            "3",
+            "--policy",
+            policy,
+            "--video",
+            path.to_str().unwrap(),
+            "--width",
+            "96",
+            "--height",
+            "64",
+        ]);
+        (decode(&path), steps(&printed))
+    };
+    let ((zero, size), zero_steps) = video("zero");
+    assert_eq!(size, (96, 64));
+    assert_eq!(zero.len(), zero_steps, "one frame per step");
+    let ((random, _), random_steps) = video("random");
+    assert_eq!(random.len(), random_steps);
+    // The hopper tips over with zero actions: its last frame is not its first.
+    assert!(difference(&zero[0], &zero[zero.len() - 1]) > 2.0);
+    // Random actions fall another way: at the same step, other pictures.
+    let k = zero.len().min(random.len()) - 1;
+    assert!(difference(&zero[k], &random[k]) > 1.0, "step {k}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_video_requests_are_one_line_errors() {
+    if !available() {
+        return;
+    }
+    let dir = scratch("errors");
+    let rollout = |video: &str, extra: &[&str], env: &[(&str, &str)]| {
+        let mut args = vec![
+            "rollout",
+            "--env",
+            "Hopper-v4",
+            "--episodes",
+            "1",
+            "--video",
+            video,
+        ];
+        args.extend(extra);
+        failure(&args, env)
+    };
+    let err = rollout("/no/such/folder/a.mp4", &[], &[]);
+    assert!(err.contains("--video /no/such/folder/a.mp4"), "{err}");
+    let ok = dir.join("a.mp4");
+    let ok = ok.to_str().unwrap();
+    let err = rollout(ok, &["--width", "97"], &[]);
+    assert!(err.contains("even frame sizes"), "{err}");
+    let err = rollout(ok, &["--width", "100000"], &[]);
+    assert!(err.contains("each side must be 16 to 4096 pixels"), "{err}");
+    let err = rollout(dir.join("a.avi").to_str().unwrap(), &[], &[]);
+    assert!(err.contains("must end in .mp4"), "{err}");
+    // No ffmpeg on PATH, and no EGL driver for the renderer: each names what to install.
+    let err = rollout(ok, &[], &[("PATH", "/nonexistent")]);
+    assert!(err.contains("apt-get install ffmpeg"), "{err}");
+    let err = rollout(
+        ok,
+        &[],
+        &[("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent.json")],
+    );
+    assert!(err.contains("libegl-mesa0"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn video_every_leaves_the_runs_numbers_bit_identical() {
+    if !available() {
+        return;
+    }
+    let dir = scratch("every");
+    let demos =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/logo/inverted_double_pendulum");
+    let config = dir.join("tiny.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "env = \"SparseInvertedDoublePendulum-v4\"\niterations = 4\nsamples_per_iter = 400\n\
+             policy_hidden = [16, 16]\neval_steps = 100\n[critic]\nhidden = [16, 16]\n\
+             fit = {{ method = \"lbfgs\", iterations = 3 }}\n[guidance]\ndemos = {:?}\n\
+             delta0 = 0.2\nalpha = 0.9\nwarmup = 0\n",
+            demos.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    let train = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["train", "--config", config.to_str().unwrap()];
+        args.extend(["--out", out.to_str().unwrap(), "--no-tensorboard"]);
+        args.extend(extra);
+        let printed = succeed(&args);
+        (out, printed)
+    };
+    let (plain, _) = train("plain", &[]);
+    let (filmed, printed) = train("filmed", &["--video-every", "2"]);
+    assert!(printed.contains("iteration-00002.mp4"), "{printed}");
+    for k in [2, 4] {
+        let (frames, size) = decode(&filmed.join(format!("videos/iteration-{k:05}.mp4")));
+        assert_eq!(size, (480, 480));
+        assert!(!frames.is_empty());
+    }
+    assert!(!filmed.join("videos/iteration-00001.mp4").exists());
+    let rows = |dir: &Path| -> Vec<String> {
+        let csv = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
+        let header: Vec<String> = csv
+            .lines()
+            .next()
+            .unwrap()
+            .split(',')
+            .map(String::from)
+            .collect();
+        csv.lines()
+            .map(|line| {
+                line.split(',')
+                    .zip(&header)
+                    .filter(|(_, h)| *h != "wall_s" && !h.starts_with("t_"))
+                    .map(|(v, _)| v.to_string())
+                    .collect::<Vec<_>>()
+                    .join(",")
+            })
+            .collect()
+    };
+    assert_eq!(rows(&plain), rows(&filmed));
+    let bytes = |dir: &Path| std::fs::read(dir.join("checkpoint.safetensors")).unwrap();
+    assert!(bytes(&plain) == bytes(&filmed), "the checkpoints differ");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
