@@ -6,7 +6,6 @@ mod engine;
 mod eval;
 mod plot;
 mod rollout;
-mod slurm;
 mod summary;
 mod sweep;
 mod train;

@@ -1,5 +1,6 @@
 //! The environment interface shared by every env, wrapper and the vectorised env.
 
+use std::fmt;
 use std::path::PathBuf;
 
 /// What an environment is: its id, dimensions and episode limit.
@@ -180,5 +181,21 @@ impl Env for Box<dyn Env> {
     }
     fn restore_reset_point(&mut self, point: &ResetPoint, obs: &mut [f64]) -> Result<(), EnvError> {
         (**self).restore_reset_point(point, obs)
+    }
+}
+
+/// Gymnasium version of a task's formulas. `V4` is what LOGO used (gym -v2 semantics).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Version {
+    V4,
+    V5,
+}
+
+impl fmt::Display for Version {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Version::V4 => "v4",
+            Version::V5 => "v5",
+        })
     }
 }

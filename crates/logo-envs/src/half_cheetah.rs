@@ -1,9 +1,9 @@
 //! HalfCheetah, as Gymnasium 1.4.0's `half_cheetah_v4.py` / `half_cheetah_v5.py` compute it
 //! (the two versions have the same formulas and model).
 
+use crate::env::Version;
 use crate::hopper::locomotion_reward;
 use crate::mujoco_env::{Data, ResetNoise, Task};
-use crate::registry::Version;
 
 /// Planar cheetah: obs = qpos[1:] ‖ qvel (17, velocities not clipped),
 /// reward = v_x − 0.1‖a‖², never terminates.

@@ -1,7 +1,7 @@
 //! Hopper, as Gymnasium 1.4.0's `hopper_v4.py` / `hopper_v5.py` compute it.
 
+use crate::env::Version;
 use crate::mujoco_env::{Data, ResetNoise, Task};
-use crate::registry::Version;
 
 /// One-legged hopper: obs = qpos[1:] ‖ clip(qvel, ±10) (11), reward = v_x + healthy − 1e-3‖a‖².
 #[derive(Debug, Clone, Copy)]

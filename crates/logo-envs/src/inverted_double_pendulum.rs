@@ -1,8 +1,8 @@
 //! InvertedDoublePendulum, as Gymnasium 1.4.0's `inverted_double_pendulum_v4.py` /
 //! `inverted_double_pendulum_v5.py` compute it.
 
+use crate::env::Version;
 use crate::mujoco_env::{Data, ResetNoise, Task};
-use crate::registry::Version;
 
 /// Cart with a two-link pole. obs = [x, sin θ, cos θ, clip(qvel, ±10), clip(qfrc_constraint, ±10)]
 /// (v4: 11 dims; v5 keeps only qfrc_constraint[0]: 9 dims). Reward = 10 − 0.01x² − (y−2)²

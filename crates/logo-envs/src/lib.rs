@@ -22,12 +22,12 @@ mod walker2d;
 #[cfg(feature = "render")]
 pub mod render;
 
-pub use env::{Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo};
+pub use env::{Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo, Version};
 pub use half_cheetah::HalfCheetah;
 pub use hopper::Hopper;
 pub use inverted_double_pendulum::InvertedDoublePendulum;
 pub use mujoco_env::{Data, MujocoEnv, ResetNoise, Task, models_dir};
-pub use registry::{BASE_ENV_IDS, EnvFactory, EnvOptions, Version, all_env_ids, make};
+pub use registry::{BASE_ENV_IDS, EnvFactory, EnvOptions, all_env_ids, make};
 pub use sparse::{SparseReward, SparseRule};
 pub use vec_env::{VecEnv, VecStep};
 pub use walker2d::Walker2d;

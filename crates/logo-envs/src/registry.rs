@@ -5,26 +5,10 @@ use std::sync::Arc;
 
 use mujoco_rs::prelude::MjModel;
 
-use crate::env::{Env, EnvError, EnvSpec};
+use crate::env::{Env, EnvError, EnvSpec, Version};
 use crate::mujoco_env::{MujocoEnv, Task, load_model};
 use crate::sparse::{SparseReward, SparseRule};
 use crate::{HalfCheetah, Hopper, InvertedDoublePendulum, Walker2d};
-
-/// Gymnasium version of a task's formulas. `V4` is what LOGO used (gym -v2 semantics).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Version {
-    V4,
-    V5,
-}
-
-impl fmt::Display for Version {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Version::V4 => "v4",
-            Version::V5 => "v5",
-        })
-    }
-}
 
 /// The dense environments; each also exists as `Sparse<id>` (e.g. `SparseHopper-v4`).
 pub const BASE_ENV_IDS: [&str; 8] = [

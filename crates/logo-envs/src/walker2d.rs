@@ -1,8 +1,8 @@
 //! Walker2d, as Gymnasium 1.4.0's `walker2d_v4.py` / `walker2d_v5.py` compute it.
 
+use crate::env::Version;
 use crate::hopper::{locomotion_reward, observe_clipped};
 use crate::mujoco_env::{Data, ResetNoise, Task};
-use crate::registry::Version;
 
 /// Two-legged walker: obs = qpos[1:] ‖ clip(qvel, ±10) (17), reward = v_x + healthy − 1e-3‖a‖².
 /// v5 loads `walker2d_v5.xml` (right foot friction 1.9 instead of 0.9).

@@ -13,8 +13,8 @@ use logo_nn::{
     ValueNet, load_reference_policy,
 };
 
-use super::checkpoint::EngineSpan;
-use super::{Collector, Critics, Evaluator, Schedule, Trainer};
+use super::schedule::Schedule;
+use super::state::{Collector, Critics, EngineSpan, Evaluator, Modules, Trainer};
 use crate::config::{GuidanceConfig, TrainConfig};
 use crate::critic::{CriticConfig, CriticSet};
 use crate::delta_schedule::DeltaSchedule;
@@ -24,15 +24,6 @@ use crate::policy_update::UpdateState;
 use crate::run_dir::{RunDir, TrainError};
 use crate::sampler::Sampler;
 use crate::streams;
-
-/// The networks as burn modules on the CPU: their definitions (the reference's
-/// initialisation), and the form checkpoints are written and read in, whatever the engine.
-pub(super) struct Modules {
-    pub(super) policy: GaussianPolicy<Cpu>,
-    pub(super) critic: Vec<ValueNet<Cpu>>,
-    pub(super) guidance_critic: Option<Vec<ValueNet<Cpu>>>,
-    pub(super) discriminator: Option<Discriminator<Cpu>>,
-}
 
 impl<E: Engine> Trainer<E> {
     /// A new run on `engine` writing into `out_dir` (metrics.csv is started afresh).

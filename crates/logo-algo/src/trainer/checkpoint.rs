@@ -7,7 +7,7 @@ use logo_envs::{ResetPoint, RngState};
 use logo_nn::flat::params_to_vec;
 use logo_nn::{Checkpoint, CheckpointMeta, Engine, Policy};
 
-use super::{SamplerState, Trainer};
+use super::state::{EngineSpan, SamplerState, Trainer};
 use crate::adam::Adam;
 use crate::config::TrainConfig;
 use crate::critic::CriticSet;
@@ -23,13 +23,6 @@ fn checkpoint_algorithm(config: &TrainConfig) -> &'static str {
     } else {
         "trpo"
     }
-}
-
-/// From `from_iteration` on (until the next span), the run trained on `engine`.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct EngineSpan {
-    pub from_iteration: usize,
-    pub engine: String,
 }
 
 /// The engine spans recorded in a checkpoint's metadata (older checkpoints name one

@@ -8,7 +8,7 @@ use std::process::Command;
 
 use anyhow::{Context, Result, ensure};
 
-use crate::sweep::{RunSpec, SweepArgs};
+use super::plan::{RunSpec, SweepArgs};
 
 /// Writes `<out>/sweep-plan.json` and `<out>/sweep.sbatch`; submits it with `--submit`.
 pub fn write_array(args: &SweepArgs, runs: &[RunSpec], logo: &Path) -> Result<()> {
