@@ -21,6 +21,10 @@ export LD_LIBRARY_PATH="$root/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBR
 echo "== parity fixtures vs the Gymnasium 1.4.0 oracle"
 .venv/bin/python -W ignore tests/parity/generate.py --check tests/parity/fixtures
 
+echo "== the tables of docs/results.md vs the metrics in docs/results/"
+.venv/bin/python scripts/check_results.py
+.venv/bin/python tests/python/check_results_fails.py
+
 # Videos (crates/logo-cli/tests/video.rs): ffmpeg encodes, Mesa's EGL renders offscreen.
 if ! command -v ffmpeg >/dev/null || ! ls /usr/lib/*/libEGL_mesa.so.0 >/dev/null 2>&1; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then

@@ -1,0 +1,393 @@
+#!/usr/bin/env python3
+"""Recompute every table of docs/results.md from the metrics under docs/results/.
+
+Each table is preceded by a comment saying where its numbers come from, e.g.
+
+    <!-- check summary rows=four-envs/hopper/logo-hopper;four-envs/hopper/trpo-hopper at=2e6 -->
+
+and this script recomputes each cell it knows how to and compares the numbers in it
+with the document's, to the precision the document prints (a cell "1611 ± 920" holds
+for a recomputed 1610.6 ± 919.8). Cells quoting a paper or another program's output
+are not data of docs/results/; their columns are named with `quoted=` and listed.
+A table without a check comment is an error: a table can no longer disagree with its data.
+
+Kinds (paths relative to docs/results/; a run folder holds metrics.csv, a group folder
+holds seed*/ runs, and a .csv path is one run):
+  summary  rows=GROUP;GROUP;...   one row per group, columns by their header
+           [iterations=N: each run's first N] [sustained=range] [quoted=3,7]
+  iterations runs=NAME:PATH;...   rows are iteration numbers (1-based: the n-th row of
+           metrics.csv); cols=SPEC;SPEC;... one per column after the first, SPEC being
+           KIND:COLUMN@RUN with KIND samples | thousands | int | num | last5 (the
+           value and the mean of the last 5 evaluations)
+  seeds    runs=PATH;PATH;...     one row per run: first >= threshold, final, best, wall
+           threshold=RETURN
+  points   rows=GROUP;GROUP;...   per seed, the evaluation at each sample count of
+           points=S,S,...; then mean ± std at the last
+  cells    rXcY=STAT@GROUP ...    single cells (X, Y 1-based over body rows and columns)
+           [quoted=...]
+
+Exit status 1 on any mismatch, listing table, row, column, document and data.
+Usage: scripts/check_results.py [docs/results.md]
+"""
+
+import csv
+import math
+import re
+import statistics
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+NUMBER = re.compile(r"-?\d[\d,]*(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+# ---------------------------------------------------------------- reading runs
+
+def read_run(path):
+    """Rows of one metrics.csv as dicts of floats (NaN where empty or not a number)."""
+    rows = []
+    with open(path, newline="") as f:
+        for raw in csv.DictReader(f):
+            row = {}
+            for key, value in raw.items():
+                try:
+                    row[key] = float(value)
+                except (TypeError, ValueError):
+                    row[key] = math.nan
+            rows.append(row)
+    if not rows:
+        raise SystemExit(f"{path}: no rows")
+    return rows
+
+
+def run_file(path):
+    path = ROOT / "docs/results" / path
+    if path.suffix == ".csv":
+        return path
+    if (path / "metrics.csv").is_file():
+        return path / "metrics.csv"
+    raise SystemExit(f"{path}: neither a .csv nor a run folder with metrics.csv")
+
+
+def group_runs(path):
+    """The runs of a group folder (seed*/metrics.csv, in seed order), or the one run."""
+    base = ROOT / "docs/results" / path
+    seeds = sorted(base.glob("seed*/metrics.csv"), key=lambda p: int(p.parent.name[4:]))
+    if seeds:
+        return [read_run(p) for p in seeds]
+    return [read_run(run_file(path))]
+
+
+def evaluations(rows, metric="eval_dense_return"):
+    return [(r["samples"], r[metric]) for r in rows if math.isfinite(r[metric])]
+
+
+# ---------------------------------------------------------------- statistics
+
+def interpolate(points, x):
+    """The evaluation curve at x samples, linear between evaluations (as `logo summary`)."""
+    for i, (x1, y1) in enumerate(points):
+        if x1 >= x:
+            if i == 0:
+                return y1
+            x0, y0 = points[i - 1]
+            return y1 if x1 == x0 else y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+    return points[-1][1]
+
+
+def mean_std(values):
+    if not values:
+        return None
+    return statistics.fmean(values), (statistics.stdev(values) if len(values) > 1 else 0.0)
+
+
+def pm(values):
+    m, s = mean_std(values)
+    return f"{m!r} ± {s!r}"
+
+
+def samples_text(x):
+    return f"{x / 1e6!r}M" if x >= 1e6 else f"{x / 1e3!r}k"
+
+
+def sustained(rows, length=5):
+    """Samples at the first of `length` iterations in a row with a sparse return above 0."""
+    streak = 0
+    for i, r in enumerate(rows):
+        streak = streak + 1 if r["train_sparse_return"] > 0 else 0
+        if streak == length:
+            return rows[i - length + 1]["samples"]
+    return None
+
+
+def first_hit(rows):
+    return next((r["samples"] for r in rows if r["train_sparse_return"] > 0), None)
+
+
+def late_mean(points):
+    late = math.ceil(len(points) / 10)
+    return statistics.fmean(y for _, y in points[-late:])
+
+
+def parse_samples(text):
+    m = re.fullmatch(r"([\d.]+)\s*([kM]?)", text.strip())
+    if not m:
+        return None
+    return float(m.group(1)) * {"": 1, "k": 1e3, "M": 1e6}[m.group(2)]
+
+
+def first_iterations(runs, n):
+    """Each run's first `n` iterations (None: whole)."""
+    return runs if n is None else [rows[:n] for rows in runs]
+
+
+def column_value(header, runs, opts):
+    """The recomputed cell of a summary-like column, or None if the header is unknown."""
+    h = header.strip().replace("**", "")
+    points = [evaluations(rows) for rows in runs]
+    finals = [p[-1][0] for p in points]
+    if h == "seeds":
+        return str(len(runs))
+    if h.startswith("samples (min"):
+        return f"{samples_text(min(finals))}–{samples_text(max(finals))}"
+    if h == "samples":
+        return samples_text(min(finals))
+    if h == "final":
+        return pm([p[-1][1] for p in points])
+    if h == "peak":
+        return pm([max(y for _, y in p) for p in points])
+    if h.startswith("samples at peak"):
+        return samples_text(statistics.median(max(p, key=lambda q: q[1])[0] for p in points))
+    if h == "mean of last 10%":
+        return pm([late_mean(p) for p in points])
+    m = re.match(r"at ([\d.]+\s*[kM]?)", h)
+    if m:
+        x = parse_samples(m.group(1))
+        values = [interpolate(p, x) for p in points if x <= p[-1][0]]
+        if len(values) < len(points):
+            return f"{pm(values)} ({len(values)} seeds)" if values else "—"
+        return pm(values)
+    m = re.match(r"seeds ≥ (\d+)", h)
+    if m:
+        t = float(m.group(1))
+        reached = [next(x for x, y in p if y >= t) for p in points if any(y >= t for _, y in p)]
+        if not reached:
+            return f"0/{len(runs)}"
+        return f"{len(reached)}/{len(runs)} ({samples_text(statistics.median(reached))})"
+    if "sustained" in h or h.startswith("first sparse reward"):
+        at = [sustained(rows) if "sustained" in h else first_hit(rows) for rows in runs]
+        if "seeds 0 / 1 / 2" in h:
+            return " / ".join("never" if a is None else f"{a / 1e6!r}M" for a in at)
+        hits = sorted(a for a in at if a is not None)
+        if opts.get("sustained") == "range":
+            if hits:
+                return f"{hits[0] / 1e6!r}–{hits[-1] / 1e6!r}M"
+            firsts = sorted(a for a in map(first_hit, runs) if a is not None)
+            by = round(max(finals) / 1e6)
+            return f"never by {by}M (first hits {firsts[0] / 1e6!r}–{firsts[-1] / 1e6!r}M)"
+        if not hits:
+            return f"0/{len(runs)}"
+        if h.startswith("first sparse reward"):
+            listing = ", ".join(f"{a / 1e6!r}M" for a in hits)
+        elif len(hits) == 1:
+            listing = f"{hits[0] / 1e6!r}M"
+        else:
+            listing = f"{hits[0] / 1e6!r}–{hits[-1] / 1e6!r}M"
+        return f"{len(hits)}/{len(runs)} ({listing})"
+    m = re.match(r"evaluations < (\d+) after reaching (\d+)", h)
+    if m:
+        low, high = float(m.group(1)), float(m.group(2))
+        fell = total = 0
+        for p in points:
+            reached = False
+            for _, y in p:
+                if reached:
+                    total += 1
+                    fell += y < low
+                reached = reached or y >= high
+        return f"{fell} / {total} ({100 * fell / total!r}%)"
+    m = re.match(r"(guidance-step KL|improvement-step epochs)", h)
+    if m:
+        column = {"guidance-step KL": "guidance_kl", "improvement-step epochs": "update_epochs"}[m.group(1)]
+        first = int(opts.get("first", 25))
+        return repr(statistics.fmean(r[column] for rows in runs for r in rows[:first]))
+    return None
+
+
+# ---------------------------------------------------------------- comparing
+
+def numbers(text):
+    text = text.replace("−", "-").replace("**", "")
+    found = []
+    for m in NUMBER.finditer(text):
+        token = m.group(0).replace(",", "")
+        mantissa = token.split("e")[0]
+        decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+        exponent = int(token.split("e")[1]) if "e" in token else 0
+        found.append((float(token), 10.0 ** (exponent - decimals)))
+    return found
+
+
+def agrees(document, computed):
+    """Every number the document prints is the recomputed one, rounded as printed."""
+    doc, data = numbers(document), numbers(computed)
+    if len(doc) != len(data):
+        return False
+    return all(abs(d - c) <= 0.5 * unit * (1 + 1e-9) + 1e-12 for (d, unit), (c, _) in zip(doc, data))
+
+
+# ---------------------------------------------------------------- tables
+
+def tables(lines):
+    """(check comment or None, header cells, body rows, line number) per table."""
+    found, i = [], 0
+    while i < len(lines):
+        if lines[i].startswith("|") and i + 1 < len(lines) and re.match(r"^\|( *-+ *\|)+ *$", lines[i + 1]):
+            comment = None
+            j = i - 1
+            while j >= 0 and not lines[j].strip():
+                j -= 1
+            if j >= 0 and lines[j].strip().startswith("<!-- check"):
+                comment = lines[j].strip()[len("<!-- check"):-len("-->")].strip()
+            cells = lambda line: [c.strip() for c in line.strip().strip("|").split("|")]
+            header = cells(lines[i])
+            body, k = [], i + 2
+            while k < len(lines) and lines[k].startswith("|"):
+                body.append(cells(lines[k]))
+                k += 1
+            found.append((comment, header, body, i + 1))
+            i = k
+        else:
+            i += 1
+    return found
+
+
+def options(comment):
+    kind, _, rest = comment.partition(" ")
+    opts = dict(part.split("=", 1) for part in rest.split())
+    return kind, opts
+
+
+def check_table(kind, opts, header, body):
+    """(checked cells, mismatches, quoted columns) of one table."""
+    quoted = {int(c) for c in opts.get("quoted", "").split(",") if c}
+    checked, wrong = 0, []
+
+    def compare(r, c, computed):
+        nonlocal checked
+        checked += 1
+        if not agrees(body[r][c], computed):
+            wrong.append((r + 1, header[c], body[r][c], computed))
+
+    if kind == "summary":
+        groups = opts["rows"].split(";")
+        if len(groups) != len(body):
+            raise SystemExit(f"{len(groups)} groups for {len(body)} rows")
+        limit = int(opts["iterations"]) if "iterations" in opts else None
+        for r, group in enumerate(groups):
+            runs = first_iterations(group_runs(group), limit)
+            for c in range(1, len(header)):
+                if c + 1 in quoted:
+                    continue
+                value = column_value(header[c], runs, opts)
+                if value is None:
+                    raise SystemExit(f"column {c + 1} `{header[c]}`: unknown; name it in quoted=")
+                compare(r, c, value)
+    elif kind == "iterations":
+        runs = {}
+        for part in opts["runs"].split(";"):
+            name, path = part.split(":", 1)
+            runs[name] = read_run(run_file(path))
+        specs = opts["cols"].split(";")
+        for r, row in enumerate(body):
+            n = int(numbers(row[0])[0][0])
+            for c, spec in enumerate(specs, start=1):
+                if c + 1 in quoted:
+                    continue
+                what, name = spec.split(":", 1)
+                column, _, run = name.partition("@")
+                rows = runs[run]
+                if what == "samples":
+                    compare(r, c, repr(rows[n - 1]["samples"]))
+                elif what == "thousands":
+                    compare(r, c, f"{rows[n - 1]['samples'] / 1e3!r}k")
+                elif what in ("int", "num"):
+                    compare(r, c, repr(rows[n - 1][column]))
+                elif what == "last5":
+                    upto = [x for x in rows[:n] if math.isfinite(x[column])]
+                    compare(r, c, f"{rows[n - 1][column]!r} ({statistics.fmean(x[column] for x in upto[-5:])!r})")
+                else:
+                    raise SystemExit(f"unknown column kind {what}")
+    elif kind == "seeds":
+        threshold = float(opts["threshold"])
+        for r, path in enumerate(opts["runs"].split(";")):
+            rows = read_run(run_file(path))
+            hit = next((i for i, x in enumerate(rows) if x["eval_dense_return"] >= threshold), None)
+            cells = {
+                "first ≥": "never" if hit is None else f"{hit + 1} ({rows[hit]['samples']!r})",
+                "final": repr(rows[-1]["eval_dense_return"]),
+                "best": repr(max(x["eval_dense_return"] for x in rows)),
+                "wall": repr(rows[-1]["wall_s"]),
+            }
+            compare(r, 0, str(r) if "seed" in header[0] else body[r][0])
+            for c in range(1, len(header)):
+                key = next(k for k in cells if header[c].startswith(k))
+                compare(r, c, cells[key])
+    elif kind == "points":
+        xs = [float(x) for x in opts["points"].split(",")]
+        groups = opts["rows"].split(";")
+        for r, group in enumerate(groups):
+            points = [evaluations(rows) for rows in group_runs(group)]
+            for s, p in enumerate(points, start=1):
+                compare(r, s, " / ".join(repr(interpolate(p, x)) for x in xs))
+            compare(r, len(points) + 1, pm([interpolate(p, xs[-1]) for p in points]))
+    elif kind == "cells":
+        for key, spec in opts.items():
+            m = re.fullmatch(r"r(\d+)c(\d+)", key)
+            if not m:
+                continue
+            r, c = int(m.group(1)) - 1, int(m.group(2)) - 1
+            stat, _, group = spec.partition("@")
+            value = column_value(stat.replace("_", " "), group_runs(group), opts)
+            if value is None:
+                raise SystemExit(f"{key}: unknown statistic {stat}")
+            compare(r, c, value)
+    else:
+        raise SystemExit(f"unknown kind {kind}")
+    return checked, wrong, sorted(quoted)
+
+
+def main():
+    doc = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "docs/results.md"
+    lines = doc.read_text().splitlines()
+    failures = cells = 0
+    found = tables(lines)
+    for comment, header, body, line in found:
+        where = f"{doc.name}:{line}"
+        if comment is None:
+            print(f"{where}: table without a `<!-- check ... -->` comment")
+            failures += 1
+            continue
+        kind, opts = options(comment)
+        try:
+            checked, wrong, quoted = check_table(kind, opts, header, body)
+        except SystemExit as e:
+            print(f"{where}: {e}")
+            failures += 1
+            continue
+        except (KeyError, IndexError, ValueError, StopIteration, OSError) as e:
+            print(f"{where}: cannot check ({type(e).__name__}: {e})")
+            failures += 1
+            continue
+        cells += checked
+        note = f", quoted columns {quoted}" if quoted else ""
+        print(f"{where}: {kind}, {checked} cells{note}: {'ok' if not wrong else 'MISMATCH'}")
+        for r, column, document, computed in wrong:
+            print(f"    row {r}, `{column}`: document `{document}`, data `{computed}`")
+        failures += bool(wrong)
+    print(f"{len(found)} tables, {cells} cells recomputed, {failures} failing")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
