@@ -104,7 +104,9 @@ def main():
                 phases = {key: statistics.mean(float(r[key]) for r in kept) for key, _ in PHASES}
                 # Wall time between the ends of consecutive iterations (the critic fits
                 # run beside the policy steps, so the phases do not add up to it).
-                walls = [float(b["wall_s"]) - float(a_["wall_s"]) for a_, b in zip(rows[a.skip - 1 :], kept)]
+                # (From the run's start for the first iteration when nothing is skipped.)
+                ends = [0.0] + [float(r["wall_s"]) for r in rows]
+                walls = [ends[i + 1] - ends[i] for i in range(a.skip, len(rows))]
                 phases["total"] = statistics.mean(walls)
                 if floor:
                     phases["ratio"] = phases["total"] / floor

@@ -157,7 +157,8 @@ pub(super) struct CriticFits {
 
 impl<E: Engine> Critics<E> {
     /// Fits each critic to its stream's returns on `obs`, each from its own stream of
-    /// minibatch shuffles.
+    /// minibatch shuffles. The two fits are independent, so they run side by side: each
+    /// alone scales imperfectly over the threads, together they keep the cores busy.
     pub(super) fn fit(
         &mut self,
         engine: &E,
@@ -167,18 +168,22 @@ impl<E: Engine> Critics<E> {
         guidance_returns: Option<&[f64]>,
     ) -> CriticFits {
         let clock = Instant::now();
-        let (env_loss, guidance_loss) = in_phase("critic fits", || {
-            let mut rng = generator(seed, k, Stream::EnvCriticFit);
-            let env_loss = self.env.fit(engine, obs, env_returns, &mut rng);
-            let guidance_loss = match (&mut self.guidance, guidance_returns) {
-                (Some(critic), Some(returns)) => {
+        let Critics { env, guidance } = self;
+        let (env_loss, guidance_loss) = rayon::join(
+            || {
+                in_phase("critic fits", || {
+                    let mut rng = generator(seed, k, Stream::EnvCriticFit);
+                    env.fit(engine, obs, env_returns, &mut rng)
+                })
+            },
+            || match (guidance, guidance_returns) {
+                (Some(critic), Some(returns)) => in_phase("critic fits", || {
                     let mut rng = generator(seed, k, Stream::GuidanceCriticFit);
                     critic.fit(engine, obs, returns, &mut rng)
-                }
+                }),
                 _ => f64::NAN,
-            };
-            (env_loss, guidance_loss)
-        });
+            },
+        );
         CriticFits {
             env_loss,
             guidance_loss,
