@@ -11,7 +11,7 @@ use logo_envs::{EnvFactory, EnvOptions};
 use logo_nn::Engine;
 
 use crate::engine::{EngineArgs, WithEngine};
-use crate::video::{Frames, Video, record_episode};
+use crate::video::{Frames, Video, VideoLook, record_episode};
 
 /// How each iteration's steps are laid over the threads (the numbers are the same).
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
@@ -292,6 +292,7 @@ fn record_iteration<E: Engine>(trainer: &Trainer<E>, out: &Path, iteration: usiz
         width: 480,
         height: 480,
         fps: None,
+        look: VideoLook::Fast,
     };
     let mut video = Video::start(&path, &factory, frames)?;
     let acting = trainer.policy().acting(trainer.engine());
