@@ -23,6 +23,8 @@ holds seed*/ runs, and a .csv path is one run):
            threshold=RETURN
   points   rows=GROUP;GROUP;...   per seed, the evaluation at each sample count of
            points=S,S,...; then mean ± std at the last
+  windows  rows=GROUP;GROUP;...   per group, mean ± std over seeds of each run's mean of a
+           cols=COLUMN:A-B;...    metrics.csv column over iterations A..B (0-based, inclusive)
   cells    rXcY=STAT@GROUP ...    single cells (X, Y 1-based over body rows and columns)
            [quoted=...]
 
@@ -341,6 +343,22 @@ def check_table(kind, opts, header, body):
             for s, p in enumerate(points, start=1):
                 compare(r, s, " / ".join(repr(interpolate(p, x)) for x in xs))
             compare(r, len(points) + 1, pm([interpolate(p, xs[-1]) for p in points]))
+    elif kind == "windows":
+        specs = opts["cols"].split(";")
+        for r, group in enumerate(opts["rows"].split(";")):
+            runs = group_runs(group)
+            for c, spec in enumerate(specs, start=1):
+                if c + 1 in quoted:
+                    continue
+                column, _, span = spec.partition(":")
+                a, b = (int(x) for x in span.split("-"))
+                means = []
+                for rows in runs:
+                    values = [x[column] for x in rows[a : b + 1] if math.isfinite(x[column])]
+                    if len(values) < b + 1 - a:
+                        raise SystemExit(f"{group}: fewer than {b + 1} iterations with {column}")
+                    means.append(statistics.fmean(values))
+                compare(r, c, pm(means))
     elif kind == "cells":
         for key, spec in opts.items():
             m = re.fullmatch(r"r(\d+)c(\d+)", key)
