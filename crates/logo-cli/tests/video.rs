@@ -257,5 +257,20 @@ fn video_every_leaves_the_runs_numbers_bit_identical() {
     assert_eq!(rows(&plain), rows(&filmed));
     let bytes = |dir: &Path| std::fs::read(dir.join("checkpoint.safetensors")).unwrap();
     assert!(bytes(&plain) == bytes(&filmed), "the checkpoints differ");
+    // A video of this checkpoint on an env of other dimensions, or of no episode, is
+    // refused before anything is written.
+    let checkpoint = plain.join("checkpoint.safetensors");
+    let video = dir.join("refused.mp4");
+    let eval = |extra: &[&str]| {
+        let mut args = vec!["eval", "--checkpoint", checkpoint.to_str().unwrap()];
+        args.extend(["--video", video.to_str().unwrap()]);
+        args.extend(extra);
+        failure(&args, &[])
+    };
+    let err = eval(&["--env", "Hopper-v4"]);
+    assert!(err.contains("Hopper-v4 has obs/action dims (11, 3)"), "{err}");
+    let err = eval(&["--episodes", "0"]);
+    assert!(err.contains("--episodes must be at least 1"), "{err}");
+    assert!(!video.exists(), "a refused video left a file");
     std::fs::remove_dir_all(&dir).unwrap();
 }
