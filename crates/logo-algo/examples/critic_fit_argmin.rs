@@ -108,6 +108,17 @@ fn main() -> Result<(), Error> {
     let rows = engine.rows(&obs, OBS);
     let targets = engine.upload(&returns, [ROWS, 1]);
 
+    // A counted objective from the same starting state, and argmin's solver as compared.
+    let fresh = || Counted {
+        objective: RefCell::new(ValueObjective::new(&engine, &dims, &rows, &targets, 1e-3)),
+        last: RefCell::new(None),
+        forwards: RefCell::new(0),
+        reverses: RefCell::new(0),
+    };
+    let argmin_lbfgs = || -> Result<_, Error> {
+        let search = BacktrackingLineSearch::new(ArmijoCondition::new(1e-4)?).rho(0.5)?;
+        Ok(LBFGS::new(search, 10))
+    };
     let (mut own, mut other, mut matched) = (Vec::new(), Vec::new(), Vec::new());
     for round in 0..rounds {
         let mut objective = ValueObjective::new(&engine, &dims, &rows, &targets, 1e-3);
@@ -126,14 +137,8 @@ fn main() -> Result<(), Error> {
         let seconds = clock.elapsed().as_secs_f64();
         own.push((seconds, counted.forwards, counted.reverses, result.loss));
 
-        let counted = Counted {
-            objective: RefCell::new(ValueObjective::new(&engine, &dims, &rows, &targets, 1e-3)),
-            last: RefCell::new(None),
-            forwards: RefCell::new(0),
-            reverses: RefCell::new(0),
-        };
-        let search = BacktrackingLineSearch::new(ArmijoCondition::new(1e-4)?).rho(0.5)?;
-        let solver = LBFGS::new(search, 10);
+        let counted = fresh();
+        let solver = argmin_lbfgs()?;
         let clock = Instant::now();
         let result = Executor::new(counted, solver)
             .configure(|state| state.param(theta0.clone()).max_iters(ITERATIONS))
@@ -145,15 +150,9 @@ fn main() -> Result<(), Error> {
         other.push((seconds, forwards, reverses, loss));
         // argmin again, until it reaches the loss this project's fit reached (at most
         // 8× the iterations): the time of an equally good fit.
-        let counted = Counted {
-            objective: RefCell::new(ValueObjective::new(&engine, &dims, &rows, &targets, 1e-3)),
-            last: RefCell::new(None),
-            forwards: RefCell::new(0),
-            reverses: RefCell::new(0),
-        };
-        let search = BacktrackingLineSearch::new(ArmijoCondition::new(1e-4)?).rho(0.5)?;
+        let counted = fresh();
         let clock = Instant::now();
-        let result = Executor::new(counted, LBFGS::new(search, 10))
+        let result = Executor::new(counted, argmin_lbfgs()?)
             .configure(|state| {
                 state
                     .param(theta0.clone())

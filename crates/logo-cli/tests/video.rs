@@ -268,7 +268,10 @@ fn video_every_leaves_the_runs_numbers_bit_identical() {
         failure(&args, &[])
     };
     let err = eval(&["--env", "Hopper-v4"]);
-    assert!(err.contains("Hopper-v4 has obs/action dims (11, 3)"), "{err}");
+    assert!(
+        err.contains("Hopper-v4 has obs/action dims (11, 3)"),
+        "{err}"
+    );
     let err = eval(&["--episodes", "0"]);
     assert!(err.contains("--episodes must be at least 1"), "{err}");
     assert!(!video.exists(), "a refused video left a file");
