@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Issue 24, items 2-5: LOGO and LOGO+PPO+CDQ (the seed paper's Algorithm 2) on sparse
+# Hopper, Walker2d and HalfCheetah, 3 seeds each, to ITERATIONS x 20,000 samples (500:
+# 10M; 1500: 30M), beside the reference code's own learning curve of each env. Resumable:
+# run it again (with a larger ITERATIONS to extend) and every run continues from its
+# checkpoint. ENGINE_ARGS go to every `logo train` (e.g. "--dtype f32").
+# Usage: paper_scale.sh [OUT] [JOBS] [ITERATIONS] [ENGINE_ARGS...]
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+out="${1:-runs/paper-scale}"; jobs="${2:-2}"; iterations="${3:-500}"
+shift $(( $# < 3 ? $# : 3 ))
+logo="${LOGO:-./target/release/logo}"
+curves=docs/results/reference-curves
+mkdir -p "$out"
+for env in hopper walker2d halfcheetah; do
+  # Twin-min critics need the rewardless improvement step skipped on Hopper (issue 13).
+  variant="configs/logo-ppo-cdq/$env.toml"
+  [ "$env" = hopper ] && variant=configs/experiments/hopper_ppo_cdq_skip_rewardless.toml
+  "$logo" sweep "configs/logo/$env.toml" "$variant" --seeds 0..3 --jobs "$jobs" \
+    --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" "$@"
+  case "$env" in
+    hopper) curve=Hopper ;;
+    walker2d) curve=Walker2d ;;
+    halfcheetah) curve=HalfCheetah ;;
+  esac
+  "$logo" plot "$out/$env" --out "$out/$env.png" --paper-lines --smooth 5 \
+    --external "$curves/${curve}_LOGO_ref.csv,samples,rewards/eval_R_avg,reference code (1 seed)"
+  for millions in 1 2 5 10; do
+    "$logo" summary "$out/$env" --at "${millions}000000" > "$out/$env-${millions}M.md"
+  done
+done
+done
