@@ -29,4 +29,3 @@ for env in hopper walker2d halfcheetah; do
     "$logo" summary "$out/$env" --at "${millions}000000" > "$out/$env-${millions}M.md"
   done
 done
-done
