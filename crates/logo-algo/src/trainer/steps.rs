@@ -92,7 +92,7 @@ pub(super) fn advantages<E: Engine>(
 }
 
 /// Stops the run when a step left a non-finite number behind.
-pub(super) fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError> {
+fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError> {
     if ok {
         Ok(())
     } else {
@@ -102,7 +102,7 @@ pub(super) fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError>
 
 /// Takes a policy step's result as the policy; an error names `step` if the step or the
 /// new policy holds a non-finite number.
-pub(super) fn take_step<E: Engine>(
+fn take_step<E: Engine>(
     engine: &E,
     policy: &mut Policy<E>,
     (next, stats): (Policy<E>, UpdateStats),
