@@ -1,4 +1,5 @@
-//! `logo eval`: the mean-action policy of a checkpoint on the dense and the sparse env.
+//! `logo eval`: the mean-action (or sampled) policy of a checkpoint on the dense and the
+//! sparse env.
 
 use std::path::{Path, PathBuf};
 
@@ -9,9 +10,12 @@ use logo_nn::{
     ActingPolicy, Checkpoint, CheckpointMeta, Cpu, Engine, GaussianPolicy, Policy, PolicyConfig,
 };
 
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
 use crate::engine::{EngineArgs, WithEngine};
-use crate::video::{Video, VideoArgs, record_episode};
-use logo_algo::episode::{Episode, mean_std, run_episode};
+use crate::video::{Video, VideoArgs};
+use logo_algo::episode::{Episode, mean_std, run_episode_with};
 
 #[derive(Args)]
 pub struct EvalArgs {
@@ -23,8 +27,20 @@ pub struct EvalArgs {
     /// Env to evaluate on (default: the checkpoint's training env, dense and sparse).
     #[arg(long)]
     env: Option<String>,
+    /// Episode k starts from `reset(seed + k)`; with `--sample`, also seeds the actions.
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    /// Act with actions sampled from π(·|s) (how training collects its batches) instead
+    /// of the mean action (how training evaluates).
+    #[arg(long)]
+    sample: bool,
+    /// Also report where each episode first moved this many metres forward and its mean
+    /// speed before and after that point: past a sparse reward's distance threshold (20 m
+    /// for SparseHalfCheetah, 2 m for Hopper and Walker2d) the sparse reward pays the same
+    /// whatever the speed, so this shows what the policy does where it is no longer paid
+    /// for speed.
+    #[arg(long, value_name = "METRES")]
+    split_at: Option<f64>,
     /// The engine the policy is loaded onto (any engine or float type loads any
     /// checkpoint); episodes act with its host copy, as training does.
     #[command(flatten)]
@@ -65,6 +81,12 @@ pub fn load_policy(path: &Path) -> Result<(GaussianPolicy<Cpu>, CheckpointMeta)>
 
 pub fn run(args: &EvalArgs) -> Result<()> {
     anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
+    if let Some(metres) = args.split_at {
+        anyhow::ensure!(
+            metres.is_finite() && metres > 0.0,
+            "--split-at must be a positive number of metres, got {metres}"
+        );
+    }
     let (policy, meta) = load_policy(&args.checkpoint)?;
     let meta = &meta;
     let (acting, engine) = args.engine.with(OnEngine(&policy))?;
@@ -83,8 +105,13 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         Some(id) => vec![id.clone()],
         None => vec![dense_id.clone(), format!("Sparse{dense_id}")],
     };
+    let acts = if args.sample {
+        "sampled actions"
+    } else {
+        "mean action"
+    };
     println!(
-        "{} ({} iteration {}, seed {}; trained on {}): mean action on {engine}, {} episodes",
+        "{} ({} iteration {}, seed {}; trained on {}): {acts} on {engine}, {} episodes",
         args.checkpoint.display(),
         meta.algorithm,
         meta.iteration,
@@ -113,30 +140,120 @@ pub fn run(args: &EvalArgs) -> Result<()> {
             meta.obs_dim,
             meta.act_dim
         );
-        let seeds = (0..args.episodes as u64).map(|episode| args.seed + episode);
-        let episodes = match (&args.video.video, i) {
-            (Some(path), 0) => {
-                let mut video = Video::start(path, &factory, args.video.frames())?;
-                let episodes = seeds
-                    .enumerate()
-                    .map(|(k, seed)| {
-                        let label = format!("episode {} | ", k + 1);
-                        record_episode(&mut video, env.as_mut(), seed, &label, |obs| {
-                            acting.mean(obs)
-                        })
-                    })
-                    .collect::<Result<Vec<_>>>()?;
-                let frames = video.finish()?;
-                println!("video: {} ({frames} frames of {id})", path.display());
-                episodes
-            }
-            _ => seeds
-                .map(|seed| run_episode(env.as_mut(), seed, |obs| acting.mean(obs)))
-                .collect::<Result<Vec<_>, _>>()?,
+        let mut video = match (&args.video.video, i) {
+            (Some(path), 0) => Some(Video::start(path, &factory, args.video.frames())?),
+            _ => None,
         };
+        let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
+        let mut act = |obs: &[f64]| {
+            if args.sample {
+                acting.sample(obs, &mut rng)
+            } else {
+                acting.mean(obs)
+            }
+        };
+        let mut episodes = Vec::new();
+        let mut splits = Vec::new();
+        for k in 0..args.episodes {
+            let mut split = args.split_at.map(SplitTracker::new);
+            let label = format!("episode {} | ", k + 1);
+            let episode = run_episode_with(
+                env.as_mut(),
+                args.seed + k as u64,
+                &mut act,
+                |env, e: &Episode| {
+                    if let Some(split) = split.as_mut() {
+                        split.observe(e);
+                    }
+                    match video.as_mut() {
+                        Some(video) => video.episode_frame(env, &label, e),
+                        None => Ok(()),
+                    }
+                },
+            )?;
+            splits.extend(split.map(|s| s.finish(&episode, spec.dt)));
+            episodes.push(episode);
+        }
+        if let (Some(video), Some(path)) = (video, &args.video.video) {
+            let frames = video.finish()?;
+            println!("video: {} ({frames} frames of {id})", path.display());
+        }
         println!("{id:32} {}", summary(&episodes));
+        if let Some(metres) = args.split_at {
+            println!("{:32} {}", "", split_summary(metres, &splits));
+        }
     }
     Ok(())
+}
+
+/// Where an episode first moved `metres` forward (`--split-at`).
+struct SplitTracker {
+    metres: f64,
+    reached: Option<(usize, f64)>,
+}
+
+/// An episode cut at its first crossing of `--split-at`: mean forward speed (m/s) up to
+/// that step and after it (`None` where the episode never crossed, or ended there).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Split {
+    step: Option<usize>,
+    speed_before: Option<f64>,
+    speed_after: Option<f64>,
+}
+
+impl SplitTracker {
+    fn new(metres: f64) -> Self {
+        Self {
+            metres,
+            reached: None,
+        }
+    }
+
+    fn observe(&mut self, e: &Episode) {
+        if self.reached.is_none() && e.moved >= self.metres {
+            self.reached = Some((e.length, e.moved));
+        }
+    }
+
+    fn finish(self, e: &Episode, dt: f64) -> Split {
+        let Some((step, moved)) = self.reached else {
+            return Split {
+                step: None,
+                speed_before: None,
+                speed_after: None,
+            };
+        };
+        let after = e.length - step;
+        Split {
+            step: Some(step),
+            speed_before: Some(moved / (step as f64 * dt)),
+            speed_after: (after > 0).then(|| (e.moved - moved) / (after as f64 * dt)),
+        }
+    }
+}
+
+/// One line for `--split-at`: how many episodes got there, when, and how fast before and
+/// after (mean ± std over the episodes that have each number).
+fn split_summary(metres: f64, splits: &[Split]) -> String {
+    let stat = |of: fn(&Split) -> Option<f64>| {
+        let values: Vec<f64> = splits.iter().filter_map(of).collect();
+        match values.is_empty() {
+            true => "-".to_string(),
+            false => {
+                let (m, s) = mean_std(&values);
+                format!("{m:.2} ± {s:.2}")
+            }
+        }
+    };
+    let reached = splits.iter().filter(|s| s.step.is_some()).count();
+    format!(
+        "{metres} m reached in {reached} of {} episodes, at step {} | speed before {} m/s, \
+         after {} m/s",
+        splits.len(),
+        stat(|s| s.step.map(|k| k as f64)),
+        stat(|s| s.speed_before),
+        stat(|s| s.speed_after),
+    )
 }
 
 /// One line for an env's evaluation: mean ± std over episodes of the returns and of how
@@ -160,6 +277,7 @@ fn summary(episodes: &[Episode]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use logo_algo::episode::run_episode;
 
     /// A constant action of 2 on HalfCheetah (actuator range ±1): the RMS says 2, and the
     /// dense return is the distance over dt minus 0.1·‖a‖² per step on the unclamped
@@ -179,5 +297,49 @@ mod tests {
             "{episode:?}, expected dense {expected}"
         );
         assert!(episode.dense_return < 0.0, "{episode:?}");
+    }
+
+    /// An episode moving 0.5 m a step for 4 steps, then 0.25 m a step for 4 more, cut at
+    /// 2 m: reached at step 4, 5 m/s before and 2.5 m/s after (dt 0.1 s); one that stops
+    /// short of the mark has no split.
+    #[test]
+    fn split_at_cuts_an_episode_at_its_first_crossing() {
+        let steps = [0.5, 1.0, 1.5, 2.0, 2.25, 2.5, 2.75, 3.0];
+        let episode = |moved: &[f64]| {
+            let mut tracker = SplitTracker::new(2.0);
+            let mut e = Episode {
+                return_: 0.0,
+                dense_return: 0.0,
+                length: 0,
+                terminated: false,
+                moved: 0.0,
+                action_rms: 0.0,
+            };
+            for &x in moved {
+                e.length += 1;
+                e.moved = x;
+                tracker.observe(&e);
+            }
+            tracker.finish(&e, 0.1)
+        };
+        let split = episode(&steps);
+        assert_eq!(split.step, Some(4));
+        assert!(
+            (split.speed_before.unwrap() - 5.0).abs() < 1e-12,
+            "{split:?}"
+        );
+        assert!(
+            (split.speed_after.unwrap() - 2.5).abs() < 1e-12,
+            "{split:?}"
+        );
+        let short = episode(&steps[..3]);
+        assert_eq!((short.step, short.speed_before), (None, None));
+        let at_the_end = episode(&steps[..4]);
+        assert_eq!((at_the_end.step, at_the_end.speed_after), (Some(4), None));
+        assert_eq!(
+            split_summary(2.0, &[split, short]),
+            "2 m reached in 1 of 2 episodes, at step 4.00 ± 0.00 | speed before 5.00 ± 0.00 m/s, \
+             after 2.50 ± 0.00 m/s"
+        );
     }
 }

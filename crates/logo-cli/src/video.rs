@@ -170,6 +170,16 @@ impl Video {
         }
     }
 
+    /// A frame of an episode in progress, captioned with `label`, the step, both returns
+    /// so far and the distance moved.
+    pub fn episode_frame(&mut self, env: &dyn Env, label: &str, e: &Episode) -> Result<()> {
+        let caption = format!(
+            "{label}step {} | dense {:.1} | return {:.1} | x {:+.2} m",
+            e.length, e.dense_return, e.return_, e.moved
+        );
+        self.frame(env, &caption)
+    }
+
     /// Closes the file; the number of frames written.
     pub fn finish(mut self) -> Result<usize> {
         drop(self.stdin.take());
@@ -210,10 +220,6 @@ pub fn record_episode(
     act: impl FnMut(&[f64]) -> Vec<f64>,
 ) -> Result<Episode> {
     run_episode_with(env, seed, act, |env, e: &Episode| {
-        let caption = format!(
-            "{label}step {} | dense {:.1} | return {:.1} | x {:+.2} m",
-            e.length, e.dense_return, e.return_, e.moved
-        );
-        video.frame(env, &caption)
+        video.episode_frame(env, label, e)
     })
 }

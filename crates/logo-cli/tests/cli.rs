@@ -183,6 +183,29 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
         text.contains("SparseInvertedDoublePendulum-v4") && text.contains("dense return"),
         "{text}"
     );
+    // Sampled actions are seeded (the same --seed, the same episodes); --split-at adds a
+    // line per env, and a mark that is not a positive distance is refused.
+    let ckpt = ckpt.to_str().unwrap();
+    let sampled = || {
+        let args = [
+            "--episodes",
+            "2",
+            "--sample",
+            "--seed",
+            "5",
+            "--split-at",
+            "0.01",
+        ];
+        succeed(&[&["eval", "--checkpoint", ckpt][..], &args].concat())
+    };
+    let (first, again) = (sampled(), sampled());
+    assert_eq!(first, again);
+    assert!(
+        first.contains("sampled actions") && first.contains("0.01 m reached in"),
+        "{first}"
+    );
+    let bad = stderr_line(&logo(&["eval", "--checkpoint", ckpt, "--split-at", "0"]));
+    assert!(bad.contains("--split-at must be a positive"), "{bad}");
     let header: Vec<&str> = a.lines().next().unwrap().split(',').collect();
     for col in [
         "iteration",
