@@ -5,7 +5,7 @@ use logo_envs::{Env, EnvError};
 use logo_nn::ActingPolicy;
 
 /// One episode's totals.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Episode {
     /// The env's own (e.g. sparse) return.
     pub return_: f64,
@@ -41,14 +41,7 @@ pub fn run_episode_with<E: From<EnvError>>(
     let mut obs = vec![0.0; env.spec().obs_dim];
     env.reset(Some(seed), &mut obs);
     let x_start = env.x_position();
-    let mut episode = Episode {
-        return_: 0.0,
-        dense_return: 0.0,
-        length: 0,
-        terminated: false,
-        moved: 0.0,
-        action_rms: 0.0,
-    };
+    let mut episode = Episode::default();
     let mut squared_action = 0.0;
     loop {
         let action = act(&obs);

@@ -307,14 +307,7 @@ mod tests {
         let steps = [0.5, 1.0, 1.5, 2.0, 2.25, 2.5, 2.75, 3.0];
         let episode = |moved: &[f64]| {
             let mut tracker = SplitTracker::new(2.0);
-            let mut e = Episode {
-                return_: 0.0,
-                dense_return: 0.0,
-                length: 0,
-                terminated: false,
-                moved: 0.0,
-                action_rms: 0.0,
-            };
+            let mut e = Episode::default();
             for &x in moved {
                 e.length += 1;
                 e.moved = x;
