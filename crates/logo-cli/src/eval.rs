@@ -171,7 +171,9 @@ pub fn run(args: &EvalArgs) -> Result<()> {
                     }
                 },
             )?;
-            splits.extend(split.map(|s| s.finish(&episode, spec.dt)));
+            if let Some(split) = split {
+                splits.push(split.finish(&episode, spec.dt));
+            }
             episodes.push(episode);
         }
         if let (Some(video), Some(path)) = (video, &args.video.video) {
@@ -192,12 +194,12 @@ struct SplitTracker {
     reached: Option<(usize, f64)>,
 }
 
-/// An episode cut at its first crossing of `--split-at`: mean forward speed (m/s) up to
-/// that step and after it (`None` where the episode never crossed, or ended there).
+/// An episode cut at its first crossing of `--split-at`: the step, and the mean forward
+/// speed (m/s) up to it and after it (`None` where the episode ended there).
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Split {
-    step: Option<usize>,
-    speed_before: Option<f64>,
+    step: usize,
+    speed_before: f64,
     speed_after: Option<f64>,
 }
 
@@ -215,28 +217,25 @@ impl SplitTracker {
         }
     }
 
-    fn finish(self, e: &Episode, dt: f64) -> Split {
-        let Some((step, moved)) = self.reached else {
-            return Split {
-                step: None,
-                speed_before: None,
-                speed_after: None,
-            };
-        };
+    /// The split of the finished episode `e`; `None` if it never crossed the mark.
+    fn finish(self, e: &Episode, dt: f64) -> Option<Split> {
+        let (step, moved) = self.reached?;
         let after = e.length - step;
-        Split {
-            step: Some(step),
-            speed_before: Some(moved / (step as f64 * dt)),
+        Some(Split {
+            step,
+            speed_before: moved / (step as f64 * dt),
             speed_after: (after > 0).then(|| (e.moved - moved) / (after as f64 * dt)),
-        }
+        })
     }
 }
 
-/// One line for `--split-at`: how many episodes got there, when, and how fast before and
-/// after (mean ± std over the episodes that have each number).
-fn split_summary(metres: f64, splits: &[Split]) -> String {
+/// One line for `--split-at`, over every episode's split (`None`: never got there): how
+/// many got there, when, and how fast before and after (mean ± std over the episodes
+/// that have each number).
+fn split_summary(metres: f64, splits: &[Option<Split>]) -> String {
+    let reached: Vec<&Split> = splits.iter().flatten().collect();
     let stat = |of: fn(&Split) -> Option<f64>| {
-        let values: Vec<f64> = splits.iter().filter_map(of).collect();
+        let values: Vec<f64> = reached.iter().filter_map(|s| of(s)).collect();
         match values.is_empty() {
             true => "-".to_string(),
             false => {
@@ -245,13 +244,13 @@ fn split_summary(metres: f64, splits: &[Split]) -> String {
             }
         }
     };
-    let reached = splits.iter().filter(|s| s.step.is_some()).count();
     format!(
-        "{metres} m reached in {reached} of {} episodes, at step {} | speed before {} m/s, \
+        "{metres} m reached in {} of {} episodes, at step {} | speed before {} m/s, \
          after {} m/s",
+        reached.len(),
         splits.len(),
-        stat(|s| s.step.map(|k| k as f64)),
-        stat(|s| s.speed_before),
+        stat(|s| Some(s.step as f64)),
+        stat(|s| Some(s.speed_before)),
         stat(|s| s.speed_after),
     )
 }
@@ -315,22 +314,19 @@ mod tests {
             }
             tracker.finish(&e, 0.1)
         };
-        let split = episode(&steps);
-        assert_eq!(split.step, Some(4));
-        assert!(
-            (split.speed_before.unwrap() - 5.0).abs() < 1e-12,
-            "{split:?}"
-        );
+        let split = episode(&steps).unwrap();
+        assert_eq!(split.step, 4);
+        assert!((split.speed_before - 5.0).abs() < 1e-12, "{split:?}");
         assert!(
             (split.speed_after.unwrap() - 2.5).abs() < 1e-12,
             "{split:?}"
         );
         let short = episode(&steps[..3]);
-        assert_eq!((short.step, short.speed_before), (None, None));
-        let at_the_end = episode(&steps[..4]);
-        assert_eq!((at_the_end.step, at_the_end.speed_after), (Some(4), None));
+        assert_eq!(short, None);
+        let at_the_end = episode(&steps[..4]).unwrap();
+        assert_eq!((at_the_end.step, at_the_end.speed_after), (4, None));
         assert_eq!(
-            split_summary(2.0, &[split, short]),
+            split_summary(2.0, &[Some(split), short]),
             "2 m reached in 1 of 2 episodes, at step 4.00 ± 0.00 | speed before 5.00 ± 0.00 m/s, \
              after 2.50 ± 0.00 m/s"
         );
