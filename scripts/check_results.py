@@ -14,7 +14,9 @@ A table without a check comment is an error: a table can no longer disagree with
 Kinds (paths relative to docs/results/; a run folder holds metrics.csv, a group folder
 holds seed*/ runs, and a .csv path is one run):
   summary  rows=GROUP;GROUP;...   one row per group, columns by their header
-           [iterations=N: each run's first N] [sustained=range] [quoted=3,7]
+           [iterations=N: each run's first N] [sustained=range] [quoted=3,7];
+           a GROUP of PATH.csv@COLUMN is an outside curve (`logo summary --external`)
+           read from that column
   iterations runs=NAME:PATH;...   rows are iteration numbers (1-based: the n-th row of
            metrics.csv); cols=SPEC;SPEC;... one per column after the first, SPEC being
            KIND:COLUMN@RUN with KIND samples | thousands | int | num | last5 (the
@@ -126,6 +128,17 @@ def first_hit(rows):
     return next((r["samples"] for r in rows if r["train_sparse_return"] > 0), None)
 
 
+def window_at(points, x, n):
+    """Mean of the n evaluations nearest x, ties to the later one (`logo summary
+    --window`); None if the run stops more than its median spacing short of x."""
+    gaps = [b[0] - a[0] for a, b in zip(points, points[1:])]
+    spacing = statistics.median(gaps) if gaps else 0.0
+    if x > points[-1][0] + spacing:
+        return None
+    nearest = sorted(points, key=lambda p: (abs(p[0] - x), -p[0]))[:n]
+    return statistics.fmean(y for _, y in nearest)
+
+
 def late_mean(points):
     late = math.ceil(len(points) / 10)
     return statistics.fmean(y for _, y in points[-late:])
@@ -143,10 +156,10 @@ def first_iterations(runs, n):
     return runs if n is None else [rows[:n] for rows in runs]
 
 
-def column_value(header, runs, opts):
+def column_value(header, runs, opts, metric="eval_dense_return"):
     """The recomputed cell of a summary-like column, or None if the header is unknown."""
     h = header.strip().replace("**", "")
-    points = [evaluations(rows) for rows in runs]
+    points = [evaluations(rows, metric) for rows in runs]
     finals = [p[-1][0] for p in points]
     if h == "seeds":
         return str(len(runs))
@@ -162,10 +175,13 @@ def column_value(header, runs, opts):
         return samples_text(statistics.median(max(p, key=lambda q: q[1])[0] for p in points))
     if h == "mean of last 10%":
         return pm([late_mean(p) for p in points])
-    m = re.match(r"at ([\d.]+\s*[kM]?)", h)
+    m = re.match(r"at ([\d.]+\s*[kM]?)(?:, mean of (\d+))?", h)
     if m:
         x = parse_samples(m.group(1))
-        values = [interpolate(p, x) for p in points if x <= p[-1][0]]
+        if m.group(2):
+            values = [v for p in points if (v := window_at(p, x, int(m.group(2)))) is not None]
+        else:
+            values = [interpolate(p, x) for p in points if x <= p[-1][0]]
         if len(values) < len(points):
             return f"{pm(values)} ({len(values)} seeds)" if values else "—"
         return pm(values)
@@ -287,11 +303,12 @@ def check_table(kind, opts, header, body):
             raise SystemExit(f"{len(groups)} groups for {len(body)} rows")
         limit = int(opts["iterations"]) if "iterations" in opts else None
         for r, group in enumerate(groups):
-            runs = first_iterations(group_runs(group), limit)
+            path, _, metric = group.partition("@")
+            runs = first_iterations(group_runs(path), limit)
             for c in range(1, len(header)):
                 if c + 1 in quoted:
                     continue
-                value = column_value(header[c], runs, opts)
+                value = column_value(header[c], runs, opts, metric or "eval_dense_return")
                 if value is None:
                     raise SystemExit(f"column {c + 1} `{header[c]}`: unknown; name it in quoted=")
                 compare(r, c, value)

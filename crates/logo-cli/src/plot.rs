@@ -69,7 +69,7 @@ pub struct ExternalSpec {
     pub label: String,
 }
 
-fn parse_external(text: &str) -> std::result::Result<ExternalSpec, String> {
+pub(crate) fn parse_external(text: &str) -> std::result::Result<ExternalSpec, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     let [path, samples, value, rest @ ..] = parts.as_slice() else {
         return Err(format!(
@@ -149,6 +149,20 @@ pub fn read_external(spec: &ExternalSpec) -> Result<Vec<(f64, f64)>> {
     Ok(points)
 }
 
+/// `--external` curves as single-seed [`Run`]s named by their labels.
+pub fn external_runs(specs: &[ExternalSpec]) -> Result<Vec<Run>> {
+    specs
+        .iter()
+        .map(|spec| {
+            Ok(Run {
+                group: spec.label.clone(),
+                env: None,
+                points: read_external(spec)?,
+            })
+        })
+        .collect()
+}
+
 /// `--external` curves as single-seed [`Curve`]s at their own samples.
 fn external_curves(
     specs: &[ExternalSpec],
@@ -179,11 +193,19 @@ fn external_curves(
         .collect()
 }
 
+/// A positive sample count: a number (`2000000`, `2e6`) or one with a `k` or `M` suffix
+/// (`500k`, `2M`).
 pub(crate) fn parse_max_samples(text: &str) -> std::result::Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(n) if n.is_finite() && n > 0.0 => Ok(n),
+    let trimmed = text.trim();
+    let (digits, scale) = match trimmed.strip_suffix(['k', 'M']) {
+        Some(digits) if trimmed.ends_with('k') => (digits, 1e3),
+        Some(digits) => (digits, 1e6),
+        None => (trimmed, 1.0),
+    };
+    match digits.parse::<f64>() {
+        Ok(n) if n.is_finite() && n > 0.0 => Ok(n * scale),
         _ => Err(format!(
-            "expected a positive number of samples, got {text:?}"
+            "expected a positive number of samples (e.g. 2000000, 2e6, 2M, 500k), got {text:?}"
         )),
     }
 }
@@ -871,6 +893,13 @@ mod tests {
         assert_eq!(format_samples(1_500_000.0), "1.5M");
         assert_eq!(format_samples(200_000.0), "200k");
         assert_eq!(format_samples(900.0), "900");
+        assert_eq!(parse_max_samples("2e6"), Ok(2e6));
+        assert_eq!(parse_max_samples("2M"), Ok(2e6));
+        assert_eq!(parse_max_samples("2.5M"), Ok(2.5e6));
+        assert_eq!(parse_max_samples("500k"), Ok(5e5));
+        for bad in ["", "M", "-1M", "0", "2G", "nan", "twoM"] {
+            assert!(parse_max_samples(bad).is_err(), "{bad:?}");
+        }
     }
 
     #[test]

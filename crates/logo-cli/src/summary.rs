@@ -1,25 +1,38 @@
 //! `logo summary RUN_DIRS…`: the numbers behind a figure, one markdown row per
 //! configuration (the groups of `logo plot`): the final, peak and late returns, mean ±
-//! std over seeds, and optionally the return at a fixed sample count and the samples a
-//! seed needed to reach a threshold.
+//! std over seeds, and optionally the return at fixed sample counts and the samples a
+//! seed needed to reach a threshold. `--external` adds a row for an outside curve (a
+//! published or reference run, one seed), so that a table at equal samples sets this
+//! project's seeds beside it; `--window` reads every run as the reference curves are
+//! quoted, as the mean of the evaluations nearest each sample count.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use anyhow::{Result, ensure};
+use anyhow::{Result, bail, ensure};
 use clap::Args;
 
-use crate::plot::{Metric, Run, discover, interpolate, parse_max_samples, up_to};
+use crate::plot::{
+    ExternalSpec, Metric, Run, discover, external_runs, interpolate, parse_external,
+    parse_max_samples, up_to,
+};
 
 #[derive(Args)]
 pub struct SummaryArgs {
     /// Run folders, or folders holding runs (a sweep's output).
     #[arg(required = true)]
     runs: Vec<PathBuf>,
-    /// Also report each configuration's return at this many samples (linear between
-    /// evaluations; a run that stops earlier is left out of that column).
+    /// Also report each configuration's return at this many samples (e.g. 2e6 or 2M;
+    /// linear between evaluations; a run that stops earlier is left out of that column).
+    /// Repeatable: one column each.
+    #[arg(long, value_parser = parse_max_samples)]
+    at: Vec<f64>,
+    /// Read each `--at` column as each run's mean over its WINDOW evaluations nearest
+    /// that sample count (the reference curves' README quotes 10), instead of the one
+    /// interpolated evaluation. A run then counts if it stops at most one evaluation
+    /// short of the sample count.
     #[arg(long)]
-    at: Option<f64>,
+    window: Option<usize>,
     /// Also count the seeds whose evaluation reached this return, and the samples each
     /// first needed (median over those seeds).
     #[arg(long)]
@@ -27,6 +40,21 @@ pub struct SummaryArgs {
     /// Read each run only up to this many samples, as `logo plot --max-samples`.
     #[arg(long, value_parser = parse_max_samples)]
     max_samples: Option<f64>,
+    /// An outside curve as one more row (one seed): CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL],
+    /// as `logo plot --external`. Repeatable.
+    #[arg(long = "external", value_parser = parse_external)]
+    externals: Vec<ExternalSpec>,
+}
+
+/// How a `--at` column reads a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AtRule {
+    /// The evaluation curve at the sample count, linear between evaluations; runs
+    /// that stop earlier are left out.
+    Interpolate,
+    /// The mean of this many evaluations nearest the sample count; runs that stop more
+    /// than one evaluation short of it are left out.
+    Window(usize),
 }
 
 /// What one run's evaluations say.
@@ -38,12 +66,13 @@ pub struct RunSummary {
     pub samples_at_peak: f64,
     /// Mean over the last 10% of evaluations (at least one).
     pub late_mean: f64,
-    pub at: Option<f64>,
+    /// One per `--at` sample count: None where the run does not reach it.
+    pub at: Vec<Option<f64>>,
     /// Samples at the first evaluation at or above the threshold.
     pub reached_at: Option<f64>,
 }
 
-pub fn summarise(run: &Run, at: Option<f64>, threshold: Option<f64>) -> RunSummary {
+pub fn summarise(run: &Run, at: &[f64], rule: AtRule, threshold: Option<f64>) -> RunSummary {
     let points = &run.points;
     let (final_samples, final_return) = points[points.len() - 1];
     let (samples_at_peak, peak) =
@@ -65,10 +94,39 @@ pub fn summarise(run: &Run, at: Option<f64>, threshold: Option<f64>) -> RunSumma
         peak,
         samples_at_peak,
         late_mean,
-        at: at
-            .filter(|&x| x <= final_samples)
-            .map(|x| interpolate(points, x)),
+        at: at.iter().map(|&x| value_at(points, x, rule)).collect(),
         reached_at: threshold.and_then(|t| points.iter().find(|p| p.1 >= t).map(|p| p.0)),
+    }
+}
+
+/// The run's value at `x` samples under `rule`, or None where it stops too early.
+fn value_at(points: &[(f64, f64)], x: f64, rule: AtRule) -> Option<f64> {
+    let final_samples = points[points.len() - 1].0;
+    match rule {
+        AtRule::Interpolate => (x <= final_samples).then(|| interpolate(points, x)),
+        AtRule::Window(n) => {
+            // "One evaluation short": the median spacing between evaluations.
+            let mut gaps: Vec<f64> = points.windows(2).map(|w| w[1].0 - w[0].0).collect();
+            let spacing = if gaps.is_empty() {
+                0.0
+            } else {
+                median(&mut gaps)
+            };
+            if x > final_samples + spacing {
+                return None;
+            }
+            // Ties go to the later evaluation: a window of 10 at iteration k's samples
+            // is iterations k-4..=k+5.
+            let mut nearest = points.to_vec();
+            nearest.sort_by(|a, b| {
+                (a.0 - x)
+                    .abs()
+                    .total_cmp(&(b.0 - x).abs())
+                    .then(b.0.total_cmp(&a.0))
+            });
+            let window = &nearest[..n.min(nearest.len())];
+            Some(window.iter().map(|p| p.1).sum::<f64>() / window.len() as f64)
+        }
     }
 }
 
@@ -107,11 +165,15 @@ fn thousands(samples: f64) -> String {
     }
 }
 
-/// The markdown table for `runs`.
-pub fn table(runs: &[Run], at: Option<f64>, threshold: Option<f64>) -> Result<String> {
+/// The markdown table for `runs`, one row per group in name order.
+pub fn table(runs: &[Run], at: &[f64], rule: AtRule, threshold: Option<f64>) -> Result<String> {
     ensure!(
-        at.is_none_or(|x| x.is_finite() && x > 0.0),
+        at.iter().all(|x| x.is_finite() && *x > 0.0),
         "--at must be a positive sample count"
+    );
+    ensure!(
+        rule != AtRule::Window(0),
+        "--window must be at least one evaluation"
     );
     ensure!(
         threshold.is_none_or(f64::is_finite),
@@ -122,7 +184,7 @@ pub fn table(runs: &[Run], at: Option<f64>, threshold: Option<f64>) -> Result<St
         groups
             .entry(&run.group)
             .or_default()
-            .push(summarise(run, at, threshold));
+            .push(summarise(run, at, rule, threshold));
     }
     let mut header = vec![
         "configuration".to_string(),
@@ -133,8 +195,11 @@ pub fn table(runs: &[Run], at: Option<f64>, threshold: Option<f64>) -> Result<St
         "samples at peak (median)".into(),
         "mean of last 10%".into(),
     ];
-    if let Some(x) = at {
-        header.push(format!("at {}", thousands(x)));
+    for &x in at {
+        header.push(match rule {
+            AtRule::Interpolate => format!("at {}", thousands(x)),
+            AtRule::Window(n) => format!("at {}, mean of {n}", thousands(x)),
+        });
     }
     if let Some(t) = threshold {
         header.push(format!("seeds ≥ {t} (median samples)"));
@@ -160,8 +225,8 @@ pub fn table(runs: &[Run], at: Option<f64>, threshold: Option<f64>) -> Result<St
             thousands(median(&mut col(|r| r.samples_at_peak))),
             pm(&col(|r| r.late_mean)),
         ];
-        if at.is_some() {
-            let values: Vec<f64> = s.iter().filter_map(|r| r.at).collect();
+        for column in 0..at.len() {
+            let values: Vec<f64> = s.iter().filter_map(|r| r.at[column]).collect();
             row.push(match values.len() {
                 0 => "—".into(),
                 n if n < s.len() => format!("{} ({n} seeds)", pm(&values)),
@@ -184,10 +249,22 @@ pub fn table(runs: &[Run], at: Option<f64>, threshold: Option<f64>) -> Result<St
 
 pub fn run(args: &SummaryArgs) -> Result<()> {
     let mut runs = discover(&args.runs, &Metric::eval_return())?;
+    let external = external_runs(&args.externals)?;
+    if let Some(clash) = external
+        .iter()
+        .find(|e| runs.iter().any(|r| r.group == e.group))
+    {
+        bail!(
+            "--external label {:?} is also the name of a configuration among the runs; give the curve another label",
+            clash.group
+        );
+    }
+    runs.extend(external);
     if let Some(max_samples) = args.max_samples {
         up_to(&mut runs, max_samples)?;
     }
-    print!("{}", table(&runs, args.at, args.threshold)?);
+    let rule = args.window.map_or(AtRule::Interpolate, AtRule::Window);
+    print!("{}", table(&runs, &args.at, rule, args.threshold)?);
     Ok(())
 }
 
@@ -208,15 +285,25 @@ mod tests {
         let points: Vec<(f64, f64)> = (1..=20)
             .map(|k| (k as f64 * 1000.0, if k == 8 { 500.0 } else { k as f64 }))
             .collect();
-        let s = summarise(&run("a", &points), Some(2500.0), Some(15.0));
+        let s = summarise(
+            &run("a", &points),
+            &[2500.0],
+            AtRule::Interpolate,
+            Some(15.0),
+        );
         assert_eq!((s.peak, s.samples_at_peak), (500.0, 8000.0));
         assert_eq!((s.final_return, s.final_samples), (20.0, 20000.0));
         assert_eq!(s.late_mean, 19.5); // the last 2 of 20
-        assert_eq!(s.at, Some(2.5));
+        assert_eq!(s.at, [Some(2.5)]);
         assert_eq!(s.reached_at, Some(8000.0));
         // Past a run's end there is no value, and an unreached threshold is None.
-        let s = summarise(&run("a", &points), Some(30000.0), Some(1000.0));
-        assert_eq!((s.at, s.reached_at), (None, None));
+        let s = summarise(
+            &run("a", &points),
+            &[30000.0],
+            AtRule::Interpolate,
+            Some(1000.0),
+        );
+        assert_eq!((s.at, s.reached_at), (vec![None], None));
     }
 
     #[test]
@@ -226,7 +313,7 @@ mod tests {
             run("logo", &[(1e5, 20.0), (2e5, 50.0)]),
             run("trpo", &[(1e5, 1.0), (1.5e5, 2.0)]),
         ];
-        let t = table(&runs, Some(1.5e5), Some(25.0)).unwrap();
+        let t = table(&runs, &[1.5e5], AtRule::Interpolate, Some(25.0)).unwrap();
         let lines: Vec<&str> = t.lines().collect();
         assert_eq!(lines.len(), 4, "{t}");
         // final 40 ± 14 (30, 50), peak the same, at 150k: 20 and 35 → 28 ± 11.
@@ -238,6 +325,41 @@ mod tests {
             lines[3],
             "| trpo | 1 | 150k–150k | 2 ± 0 | 2 ± 0 | 150k | 2 ± 0 | 2 ± 0 | 0/1 |"
         );
-        assert!(table(&runs, Some(-1.0), None).is_err());
+        assert!(table(&runs, &[-1.0], AtRule::Interpolate, None).is_err());
+        assert!(table(&runs, &[1e5], AtRule::Window(0), None).is_err());
+    }
+
+    #[test]
+    fn a_window_averages_the_nearest_evaluations_and_tolerates_one_missing() {
+        // Evaluations every 1000 samples, value = k, from 1000 to 10000.
+        let points: Vec<(f64, f64)> = (1..=10).map(|k| (k as f64 * 1000.0, k as f64)).collect();
+        let r = run("a", &points);
+        let at = [5000.0, 10500.0, 11000.0, 12000.0];
+        let s = summarise(&r, &at, AtRule::Window(3), None);
+        // Nearest 3 to 5000: 4000, 5000, 6000. At 10500 and 11000 the run is at most one
+        // evaluation short (nearest: 8000-10000); at 12000 it is two short.
+        assert_eq!(s.at, [Some(5.0), Some(9.0), Some(9.0), None]);
+        // Equally near evaluations: the later one counts (5000 and 6000, not 4000).
+        assert_eq!(
+            summarise(&r, &[5000.0], AtRule::Window(2), None).at,
+            [Some(5.5)]
+        );
+        // A window wider than the run takes the whole run.
+        assert_eq!(
+            summarise(&r, &[5000.0], AtRule::Window(50), None).at,
+            [Some(5.5)]
+        );
+        let t = table(&[r], &at[..2], AtRule::Window(3), None).unwrap();
+        assert!(
+            t.lines()
+                .next()
+                .unwrap()
+                .ends_with("| at 5k, mean of 3 | at 10k, mean of 3 |"),
+            "{t}"
+        );
+        assert!(
+            t.lines().nth(2).unwrap().ends_with("| 5 ± 0 | 9 ± 0 |"),
+            "{t}"
+        );
     }
 }

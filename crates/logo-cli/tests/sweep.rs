@@ -146,6 +146,37 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
         .map(|r| r.map(String::from).to_vec()),
         "{csv}"
     );
+    // The same outside curve as a row of `logo summary`, read at 300 samples as the
+    // mean of its 2 evaluations nearest (300 and 100); a label that is also a
+    // configuration's name, or a sample count that is not one, is refused.
+    let a_runs = out.join("a");
+    let summary = |external: &str, at: &str| {
+        logo(&[
+            "summary",
+            a_runs.to_str().unwrap(),
+            "--external",
+            external,
+            "--at",
+            at,
+            "--window",
+            "2",
+        ])
+    };
+    let table = summary(&external, "300");
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(table.status.success(), "{text}");
+    let row = text.lines().find(|l| l.starts_with("| the paper |"));
+    assert!(
+        row.is_some_and(|r| r.starts_with("| the paper | 1 |") && r.ends_with("| 6 ± 0 |")),
+        "{text}"
+    );
+    let clash = summary(&format!("{},step,score,a", reference.display()), "300");
+    let text = String::from_utf8_lossy(&clash.stderr);
+    assert!(!clash.status.success() && text.contains("\"a\""), "{text}");
+    let bad = summary(&external, "2G");
+    let text = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success() && text.contains("2G"), "{text}");
+
     for (name, runs) in [("b", 2)] {
         let seeds: Vec<Vec<Vec<String>>> = (0..runs)
             .map(|s| rows(&out.join(name).join(format!("seed{s}"))))
