@@ -22,7 +22,7 @@ pub struct RunDir {
 }
 
 /// The checkpoint's file name inside a run folder.
-const CHECKPOINT: &str = "checkpoint.safetensors";
+pub const CHECKPOINT: &str = "checkpoint.safetensors";
 
 /// `what` failed on `path`: the error with the path in it.
 fn at(path: &Path, e: impl std::fmt::Display) -> TrainError {

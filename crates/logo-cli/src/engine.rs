@@ -68,6 +68,35 @@ impl EngineArgs {
         args
     }
 
+    /// No engine flag given at all.
+    pub fn is_unset(&self) -> bool {
+        self.engine.is_none() && self.backend.is_none() && self.dtype.is_none()
+    }
+
+    /// The flags that select the engine an `Engine::describe` names ("kernels f32",
+    /// "burn ndarray f64", "burn wgpu f32"), or None for a name this build does not know.
+    pub fn from_description(text: &str) -> Option<Self> {
+        let words: Vec<&str> = text.split_whitespace().collect();
+        let (last, rest) = words.split_last()?;
+        let dtype = match *last {
+            "f64" => Dtype::F64,
+            "f32" => Dtype::F32,
+            _ => return None,
+        };
+        let (engine, backend) = match rest {
+            ["kernels"] => (EngineKind::Kernels, None),
+            ["burn", "ndarray"] => (EngineKind::Burn, Some(BackendKind::Ndarray)),
+            ["burn", "wgpu"] => (EngineKind::Burn, Some(BackendKind::Wgpu)),
+            ["burn", "cuda"] => (EngineKind::Burn, Some(BackendKind::Cuda)),
+            _ => return None,
+        };
+        Some(Self {
+            engine: Some(engine),
+            backend,
+            dtype: Some(dtype),
+        })
+    }
+
     /// Whether the backend is a GPU one (float32 only).
     fn gpu(&self) -> bool {
         matches!(self.backend, Some(BackendKind::Wgpu | BackendKind::Cuda))
@@ -174,4 +203,37 @@ fn wgpu_adapter() -> Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_engine_name_maps_back_to_its_flags() {
+        let flags = |text: &str| EngineArgs::from_description(text).map(|a| a.to_args());
+        for (name, args) in [
+            ("kernels f64", vec!["--engine", "kernels", "--dtype", "f64"]),
+            ("kernels f32", vec!["--engine", "kernels", "--dtype", "f32"]),
+            (
+                "burn ndarray f32",
+                vec!["--engine", "burn", "--backend", "ndarray", "--dtype", "f32"],
+            ),
+            (
+                "burn wgpu f32",
+                vec!["--engine", "burn", "--backend", "wgpu", "--dtype", "f32"],
+            ),
+        ] {
+            assert_eq!(
+                flags(name),
+                Some(args.iter().map(|s| s.to_string()).collect())
+            );
+        }
+        for unknown in ["", "kernels", "kernels f16", "burn f64", "tch cpu f64"] {
+            assert_eq!(flags(unknown), None, "{unknown:?}");
+        }
+        // The names the engines give themselves.
+        assert!(EngineArgs::from_description(&Kernels::<f32>::default().describe()).is_some());
+        assert!(EngineArgs::from_description(&Kernels::<f64>::default().describe()).is_some());
+    }
 }

@@ -6,9 +6,10 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use logo_algo::episode::evaluation_seed;
+use logo_algo::run_dir::CHECKPOINT;
 use logo_algo::{Schedule, TrainConfig, Trainer};
 use logo_envs::{EnvFactory, EnvOptions};
-use logo_nn::Engine;
+use logo_nn::{Checkpoint, Engine};
 
 use crate::engine::{EngineArgs, WithEngine};
 use crate::video::{Frames, Video, VideoLook, record_episode};
@@ -45,7 +46,9 @@ pub struct TrainArgs {
     config: Option<PathBuf>,
     /// Continue the run in this folder from its checkpoint (a killed run ends with the
     /// same final checkpoint as an uninterrupted one). Takes the run's own config;
-    /// --iterations may extend it. Any engine can continue any run.
+    /// --iterations may extend it. It continues on the engine and float type the run
+    /// last trained on; --engine, --backend or --dtype choose another (any engine can
+    /// continue any run).
     #[arg(long, conflicts_with_all = ["config", "seed", "out", "threads"])]
     resume: Option<PathBuf>,
     /// Overrides the config's seed.
@@ -113,7 +116,17 @@ pub fn run(args: &TrainArgs) -> Result<()> {
     if let Some(dir) = &args.resume {
         let start = Start::Resume(dir.clone(), args.iterations);
         let schedule = args.schedule.into();
-        return args.engine.with(Train {
+        let engine = match last_engine(dir) {
+            Some((flags, name)) if args.engine.is_unset() => {
+                println!(
+                    "continuing on {name}, the engine this run last trained on \
+                     (--engine, --backend or --dtype choose another)"
+                );
+                flags
+            }
+            _ => args.engine.clone(),
+        };
+        return engine.with(Train {
             start,
             stop,
             schedule,
@@ -149,6 +162,18 @@ pub fn run(args: &TrainArgs) -> Result<()> {
         tensorboard: !args.no_tensorboard,
         video_every: args.video_every,
     })
+}
+
+/// The engine the run in `dir` last trained on, as flags and as named, from its
+/// checkpoint's history; None where that cannot be read (the resume itself then says
+/// what is wrong with the checkpoint) or names an engine this build does not know.
+fn last_engine(dir: &Path) -> Option<(EngineArgs, String)> {
+    let checkpoint = Checkpoint::load(&dir.join(CHECKPOINT)).ok()?;
+    let name = logo_algo::engine_history(&checkpoint.meta)
+        .ok()?
+        .pop()?
+        .engine;
+    Some((EngineArgs::from_description(&name)?, name))
 }
 
 /// `logo train` on the chosen engine.
@@ -248,7 +273,7 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         });
         last = Some(m);
         if reached {
-            let path = out.join("checkpoint.safetensors");
+            let path = out.join(CHECKPOINT);
             trainer
                 .save_checkpoint(&path)
                 .map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -275,7 +300,7 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         best.0,
         best.1 + 1,
         out.join("metrics.csv").display(),
-        out.join("checkpoint.safetensors").display()
+        out.join(CHECKPOINT).display()
     );
     Ok(())
 }

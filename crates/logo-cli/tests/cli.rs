@@ -378,6 +378,70 @@ fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
 }
 
 #[test]
+fn a_resume_without_engine_flags_keeps_the_runs_float_type() {
+    // A float32 run stopped after 2 iterations and resumed with no engine flag ends as
+    // the same run never stopped: it does not slip into the float64 default.
+    let (dir, config) = tiny_run("resume-f32");
+    let (whole, parts) = (dir.join("whole"), dir.join("parts"));
+    let config = config.to_str().unwrap();
+    let f32_run = |out: &Path, iterations: &str| {
+        succeed(&[
+            "train",
+            "--config",
+            config,
+            "--out",
+            out.to_str().unwrap(),
+            "--dtype",
+            "f32",
+            "--iterations",
+            iterations,
+            "--no-tensorboard",
+        ])
+    };
+    f32_run(&whole, "3");
+    f32_run(&parts, "2");
+    let stdout = succeed(&[
+        "train",
+        "--resume",
+        parts.to_str().unwrap(),
+        "--iterations",
+        "3",
+    ]);
+    assert!(stdout.contains("continuing on kernels f32"), "{stdout}");
+    // metrics.csv without its wall-clock and timing columns.
+    let numbers = |run: &Path| -> Vec<String> {
+        let csv = std::fs::read_to_string(run.join("metrics.csv")).unwrap();
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        lines
+            .map(|line| {
+                line.split(',')
+                    .zip(&header)
+                    .filter(|(_, h)| **h != "wall_s" && !h.starts_with("t_"))
+                    .map(|(v, _)| v)
+                    .collect::<Vec<_>>()
+                    .join(",")
+            })
+            .collect()
+    };
+    assert_eq!(numbers(&parts), numbers(&whole));
+    // A flag still chooses another engine, and says nothing about the old one.
+    let stdout = succeed(&[
+        "train",
+        "--resume",
+        parts.to_str().unwrap(),
+        "--iterations",
+        "4",
+        "--dtype",
+        "f64",
+    ]);
+    assert!(
+        !stdout.contains("continuing on") && stdout.contains("kernels f64"),
+        "{stdout}"
+    );
+}
+
+#[test]
 fn a_run_folder_in_training_is_refused_to_a_second_process() {
     let (dir, config) = tiny_run("locked");
     let run = dir.join("run");

@@ -181,7 +181,7 @@ pub fn plan(args: &SweepArgs) -> Result<Vec<RunSpec>> {
 
 impl RunSpec {
     pub fn checkpoint(&self) -> PathBuf {
-        self.dir.join("checkpoint.safetensors")
+        self.dir.join(logo_algo::run_dir::CHECKPOINT)
     }
 
     pub fn log(&self) -> PathBuf {

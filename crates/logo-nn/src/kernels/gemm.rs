@@ -232,3 +232,61 @@ fn check_operands<F>(
         assert!(h.len() >= m * n, "gemm tanh output shorter than m × n");
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The same product with its operands placed at every offset (in elements) within
+    /// a 64-byte line: bit-identical results, or a run resumed in a fresh process (whose
+    /// buffers lie elsewhere) would drift from the one never stopped.
+    fn same_bits_wherever_the_operands_lie<F: KernelFloat>() {
+        let (m, k, n) = (67, 33, 29);
+        let value = |i: usize| F::from_f64(((i * 7919) % 1000) as f64 / 997.0 - 0.5);
+        let place = |len: usize, offset: usize| -> Vec<F> {
+            (0..len + offset)
+                .map(|i| value(i.wrapping_sub(offset)))
+                .collect()
+        };
+        let product = |offset: usize, b_transposed: bool| -> Vec<F> {
+            let a = place(m * k, offset);
+            let b = place(k * n, (offset * 3) % 16);
+            let b_strides = if b_transposed { (1, k) } else { (n, 1) };
+            let mut c = vec![F::ZERO; m * n + (offset * 5) % 16];
+            let c_at = (offset * 5) % 16;
+            gemm(
+                (m, k, n),
+                &a[offset..],
+                (k, 1),
+                &b[(offset * 3) % 16..],
+                b_strides,
+                &mut c[c_at..],
+                Start::Zero,
+                Finish::None,
+            );
+            c[c_at..].iter().map(|v| F::from_f64(v.to_f64())).collect()
+        };
+        for b_transposed in [false, true] {
+            let first = product(0, b_transposed);
+            for offset in 1..16 {
+                let got = product(offset, b_transposed);
+                let differ = first
+                    .iter()
+                    .zip(&got)
+                    .filter(|(x, y)| x.to_f64().to_bits() != y.to_f64().to_bits())
+                    .count();
+                assert_eq!(differ, 0, "offset {offset}, B transposed {b_transposed}");
+            }
+        }
+    }
+
+    #[test]
+    fn float64_products_do_not_depend_on_alignment() {
+        same_bits_wherever_the_operands_lie::<f64>();
+    }
+
+    #[test]
+    fn float32_products_do_not_depend_on_alignment() {
+        same_bits_wherever_the_operands_lie::<f32>();
+    }
+}
