@@ -3,30 +3,44 @@
 # Hopper, Walker2d and HalfCheetah, 3 seeds each, to ITERATIONS x 20,000 samples (500:
 # 10M; 1500: 30M), beside the reference code's own learning curve of each env. Resumable:
 # run it again (with a larger ITERATIONS to extend) and every run continues from its
-# checkpoint. ENGINE_ARGS go to every `logo train` (e.g. "--dtype f32").
+# checkpoint. ENGINE_ARGS (e.g. "--dtype f32") go to every `logo train` and to the
+# 20-episode `logo eval` of each final policy.
 # Usage: paper_scale.sh [OUT] [JOBS] [ITERATIONS] [ENGINE_ARGS...]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
-out="${1:-runs/paper-scale}"; jobs="${2:-2}"; iterations="${3:-500}"
-shift $(( $# < 3 ? $# : 3 ))
-logo="${LOGO:-./target/release/logo}"
-curves=docs/results/reference-curves
-mkdir -p "$out"
-for env in hopper walker2d halfcheetah; do
-  # Twin-min critics need the rewardless improvement step skipped on Hopper (issue 13).
-  variant="configs/logo-ppo-cdq/$env.toml"
-  [ "$env" = hopper ] && variant=configs/experiments/hopper_ppo_cdq_skip_rewardless.toml
-  "$logo" sweep "configs/logo/$env.toml" "$variant" --seeds 0..3 --jobs "$jobs" \
-    --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" "$@"
-  case "$env" in
-    hopper) curve=Hopper ;;
-    walker2d) curve=Walker2d ;;
-    halfcheetah) curve=HalfCheetah ;;
-  esac
-  reference="$curves/${curve}_LOGO_ref.csv,samples,rewards/eval_R_avg,reference code (1 seed)"
-  "$logo" plot "$out/$env" --out "$out/$env.png" --paper-lines --smooth 5 --external "$reference"
-  # At equal samples, every run read as the reference curve is quoted: the mean of the
-  # 10 evaluations nearest each budget.
-  "$logo" summary "$out/$env" --external "$reference" --window 10 \
-    --at 1M --at 2M --at 5M --at 10M --at 20M --at 30M > "$out/$env.md"
-done
+
+main() {
+  local out="${1:-runs/paper-scale}" jobs="${2:-2}" iterations="${3:-500}"
+  shift $(( $# < 3 ? $# : 3 ))
+  local logo="${LOGO:-./target/release/logo}" curves=docs/results/reference-curves
+  mkdir -p "$out"
+  local env variant curve reference run
+  for env in hopper walker2d halfcheetah; do
+    # Twin-min critics need the rewardless improvement step skipped on Hopper (issue 13).
+    variant="configs/logo-ppo-cdq/$env.toml"
+    [ "$env" = hopper ] && variant=configs/experiments/hopper_ppo_cdq_skip_rewardless.toml
+    "$logo" sweep "configs/logo/$env.toml" "$variant" --seeds 0..3 --jobs "$jobs" \
+      --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" "$@"
+    case "$env" in
+      hopper) curve=Hopper ;;
+      walker2d) curve=Walker2d ;;
+      halfcheetah) curve=HalfCheetah ;;
+    esac
+    # Each final policy over 20 episodes of the dense env, mean action, on the engine
+    # the runs trained on (the per-iteration evaluation has 3).
+    for run in "$out/$env"/*/seed*; do
+      "$logo" eval --checkpoint "$run/checkpoint.safetensors" --episodes 20 \
+        --env "${curve}-v4" "$@" > "$run/eval-20.txt"
+    done
+    reference="$curves/${curve}_LOGO_ref.csv,samples,rewards/eval_R_avg,reference code (1 seed)"
+    "$logo" plot "$out/$env" --out "$out/$env.png" --paper-lines --smooth 5 --external "$reference"
+    # At equal samples, every run read as the reference curve is quoted: the mean of the
+    # 10 evaluations nearest each budget.
+    "$logo" summary "$out/$env" --external "$reference" --window 10 \
+      --at 1M --at 2M --at 5M --at 10M --at 20M --at 30M > "$out/$env.md"
+  done
+}
+
+# Read whole before it runs: editing this file while a sweep runs cannot change it.
+main "$@"
+exit
