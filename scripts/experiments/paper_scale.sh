@@ -3,8 +3,7 @@
 # Hopper, Walker2d and HalfCheetah, 3 seeds each, to ITERATIONS x 20,000 samples (500:
 # 10M; 1500: 30M), beside the reference code's own learning curve of each env. Resumable:
 # run it again (with a larger ITERATIONS to extend) and every run continues from its
-# checkpoint. ENGINE_ARGS (e.g. "--dtype f32") go to every `logo train` and to the
-# 20-episode `logo eval` of each final policy.
+# checkpoint. ENGINE_ARGS (e.g. "--dtype f32") go to every `logo train`.
 # Usage: paper_scale.sh [OUT] [JOBS] [ITERATIONS] [ENGINE_ARGS...]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -27,10 +26,10 @@ main() {
       halfcheetah) curve=HalfCheetah ;;
     esac
     # Each final policy over 20 episodes of the dense env, mean action, on the engine
-    # the runs trained on (the per-iteration evaluation has 3).
+    # it trained on (the per-iteration evaluation has 3).
     for run in "$out/$env"/*/seed*; do
       "$logo" eval --checkpoint "$run/checkpoint.safetensors" --episodes 20 \
-        --env "${curve}-v4" "$@" > "$run/eval-20.txt"
+        --env "${curve}-v4" > "$run/eval-20.txt"
     done
     reference="$curves/${curve}_LOGO_ref.csv,samples,rewards/eval_R_avg,reference code (1 seed)"
     "$logo" plot "$out/$env" --out "$out/$env.png" --paper-lines --smooth 5 --external "$reference"

@@ -97,6 +97,12 @@ impl EngineArgs {
         })
     }
 
+    /// Whether this engine runs on the CPU (the kernels, or burn on ndarray): one every
+    /// build of `logo` has.
+    pub fn on_cpu(&self) -> bool {
+        matches!(self.backend, None | Some(BackendKind::Ndarray))
+    }
+
     /// Whether the backend is a GPU one (float32 only).
     fn gpu(&self) -> bool {
         matches!(self.backend, Some(BackendKind::Wgpu | BackendKind::Cuda))
@@ -232,6 +238,8 @@ mod tests {
         for unknown in ["", "kernels", "kernels f16", "burn f64", "tch cpu f64"] {
             assert_eq!(flags(unknown), None, "{unknown:?}");
         }
+        let on_cpu = |text: &str| EngineArgs::from_description(text).unwrap().on_cpu();
+        assert!(on_cpu("kernels f32") && on_cpu("burn ndarray f64") && !on_cpu("burn wgpu f32"));
         // The names the engines give themselves.
         assert!(EngineArgs::from_description(&Kernels::<f32>::default().describe()).is_some());
         assert!(EngineArgs::from_description(&Kernels::<f64>::default().describe()).is_some());

@@ -42,7 +42,9 @@ pub struct EvalArgs {
     #[arg(long, value_name = "METRES")]
     split_at: Option<f64>,
     /// The engine the policy is loaded onto (any engine or float type loads any
-    /// checkpoint); episodes act with its host copy, as training does.
+    /// checkpoint); episodes act with its host copy, as training does. Default: the one
+    /// the checkpoint last trained on where that is a CPU one, else the kernels in
+    /// float64.
     #[command(flatten)]
     engine: EngineArgs,
     /// `--video OUT.mp4` records the first env's episodes (the dense one by default).
@@ -89,9 +91,17 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     }
     let (policy, meta) = load_policy(&args.checkpoint)?;
     let meta = &meta;
-    let (acting, engine) = args.engine.with(OnEngine(&policy))?;
-    let trained_on = logo_algo::engine_history(meta)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.checkpoint.display()))?
+    let history = logo_algo::engine_history(meta)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.checkpoint.display()))?;
+    let last = history
+        .last()
+        .and_then(|span| EngineArgs::from_description(&span.engine));
+    let engine_args = match last {
+        Some(last) if args.engine.is_unset() && last.on_cpu() => last,
+        _ => args.engine.clone(),
+    };
+    let (acting, engine) = engine_args.with(OnEngine(&policy))?;
+    let trained_on = history
         .iter()
         .map(|span| format!("{} from iteration {}", span.engine, span.from_iteration))
         .collect::<Vec<_>>()

@@ -537,9 +537,14 @@ fn a_checkpoint_from_one_engine_resumes_and_evaluates_on_another() {
             && stdout.contains("mean action on burn ndarray f32"),
         "{stdout}"
     );
-    // The same policy on the default engine: float32 rounding of the weights moves the
-    // returns by little (the same seed, the same episode).
+    // With no engine flag, on the engine the run last trained on (burn ndarray f64):
+    // float32 rounding of the weights moves the returns by little (the same seed, the
+    // same episode).
     let on_f64 = succeed(&["eval", "--checkpoint", checkpoint, "--episodes", "1"]);
+    assert!(
+        on_f64.contains("mean action on burn ndarray f64"),
+        "{on_f64}"
+    );
     let dense = |s: &str| -> f64 {
         let line = s
             .lines()
