@@ -20,6 +20,16 @@ main() {
     [ "$env" = hopper ] && variant=configs/experiments/hopper_ppo_cdq_skip_rewardless.toml
     "$logo" sweep "configs/logo/$env.toml" "$variant" --seeds 0..3 --jobs "$jobs" \
       --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" "$@"
+    if [ "$env" = halfcheetah ]; then
+      # The fall study's like-for-like arm (the reference code's F·v), extended from its
+      # committed 2M checkpoints in float64, as it trained: does it fall after its peak
+      # as the reference rerun did, or rise as the reference's own curve does?
+      local arm="$out/halfcheetah/halfcheetah_reference_fisher"
+      [ -d "$arm" ] || cp -r docs/results/halfcheetah-fall/halfcheetah_reference_fisher "$arm"
+      "$logo" sweep configs/experiments/halfcheetah_reference_fisher.toml --seeds 0..3 \
+        --jobs "$jobs" --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" \
+        --dtype f64
+    fi
     case "$env" in
       hopper) curve=Hopper ;;
       walker2d) curve=Walker2d ;;
