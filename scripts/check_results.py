@@ -183,7 +183,8 @@ def column_value(header, runs, opts, metric="eval_dense_return"):
         else:
             values = [interpolate(p, x) for p in points if x <= p[-1][0]]
         if len(values) < len(points):
-            return f"{pm(values)} ({len(values)} seeds)" if values else "—"
+            seeds = "1 seed" if len(values) == 1 else f"{len(values)} seeds"
+            return f"{pm(values)} ({seeds})" if values else "—"
         return pm(values)
     m = re.match(r"seeds ≥ (\d+)", h)
     if m:

@@ -229,6 +229,7 @@ pub fn table(runs: &[Run], at: &[f64], rule: AtRule, threshold: Option<f64>) -> 
             let values: Vec<f64> = s.iter().filter_map(|r| r.at[column]).collect();
             row.push(match values.len() {
                 0 => "—".into(),
+                1 if s.len() > 1 => format!("{} (1 seed)", pm(&values)),
                 n if n < s.len() => format!("{} ({n} seeds)", pm(&values)),
                 _ => pm(&values),
             });
@@ -348,6 +349,13 @@ mod tests {
         assert_eq!(
             summarise(&r, &[5000.0], AtRule::Window(50), None).at,
             [Some(5.5)]
+        );
+        // A seed that stops short is left out of that column, and the cell says so.
+        let short = run("a", &points[..5]);
+        let t = table(&[r.clone(), short], &[10000.0], AtRule::Window(3), None).unwrap();
+        assert!(
+            t.lines().nth(2).unwrap().ends_with("| 9 ± 0 (1 seed) |"),
+            "{t}"
         );
         let t = table(&[r], &at[..2], AtRule::Window(3), None).unwrap();
         assert!(
