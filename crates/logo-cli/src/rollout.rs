@@ -2,9 +2,9 @@
 
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
-use logo_algo::episode::{mean_std, run_episode};
+use logo_algo::episode::{mean_std, run_episode_with};
 
-use crate::video::{Video, VideoArgs, record_episode};
+use crate::video::{Video, VideoArgs};
 use logo_envs::{EnvFactory, EnvOptions, all_env_ids};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -79,14 +79,16 @@ pub fn run(args: &RolloutArgs) -> Result<()> {
                 })
                 .collect()
         };
-        let seed = args.seed + episode as u64;
-        let e = match video.as_mut() {
-            Some(video) => {
-                let label = format!("episode {} | ", episode + 1);
-                record_episode(video, env.as_mut(), seed, &label, act)?
-            }
-            None => run_episode(env.as_mut(), seed, act)?,
-        };
+        let label = format!("episode {} | ", episode + 1);
+        let e = run_episode_with(
+            env.as_mut(),
+            args.seed + episode as u64,
+            act,
+            |env, e| match video.as_mut() {
+                Some(video) => video.episode_frame(env, &label, e),
+                None => Ok(()),
+            },
+        )?;
         let end = if e.terminated {
             "terminated"
         } else {
