@@ -168,6 +168,55 @@ impl TrainConfig {
         Ok(config)
     }
 
+    /// The file paths the config names, by key.
+    fn paths_mut(&mut self) -> Vec<(&'static str, &mut PathBuf)> {
+        let mut paths = Vec::new();
+        if let Some(p) = self.init_policy.as_mut() {
+            paths.push(("init_policy", p));
+        }
+        if let Some(g) = self.guidance.as_mut() {
+            if let Some(p) = g.demos.as_mut() {
+                paths.push(("guidance.demos", p));
+            }
+            if let Some(p) = g.behaviour_policy.as_mut() {
+                paths.push(("guidance.behaviour_policy", p));
+            }
+        }
+        paths
+    }
+
+    /// A config stored in a checkpoint names its files by absolute path, which a copy
+    /// of the project elsewhere (another clone, a cluster) does not have. Each such path
+    /// that no longer exists is replaced by the longest tail of it, of at least two
+    /// components, that exists under `root` (`/old/clone/data/logo/hopper` →
+    /// `root/data/logo/hopper`); one that still exists, or has no such tail, is left as
+    /// is (validation then names it). Returns a line per path replaced.
+    pub fn relocate_missing_paths(&mut self, root: &Path) -> Vec<String> {
+        let mut notes = Vec::new();
+        for (key, path) in self.paths_mut() {
+            if path.exists() {
+                continue;
+            }
+            let parts: Vec<_> = path
+                .components()
+                .filter(|c| matches!(c, std::path::Component::Normal(_)))
+                .collect();
+            let found = (0..parts.len().saturating_sub(1))
+                .map(|start| root.join(parts[start..].iter().collect::<PathBuf>()))
+                .find(|candidate| candidate.exists());
+            if let Some(found) = found {
+                let found = std::fs::canonicalize(&found).unwrap_or(found);
+                notes.push(format!(
+                    "{key}: {} is not here; using {}",
+                    path.display(),
+                    found.display()
+                ));
+                *path = found;
+            }
+        }
+        notes
+    }
+
     /// Every value a file can get wrong; the message names the key.
     pub fn validate(&self) -> Result<(), String> {
         let positive = [
@@ -318,5 +367,44 @@ impl GuidanceConfig {
             critic.validate("guidance.critic")?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_stored_paths_are_found_again_under_a_new_root() {
+        let root = std::env::temp_dir().join(format!("logo-relocate-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        std::fs::create_dir_all(root.join("data/logo/hopper")).unwrap();
+        std::fs::write(root.join("policy.pt"), b"").unwrap();
+        let toml = format!(
+            "env = \"SparseHopper-v4\"\niterations = 1\nsamples_per_iter = 1000\n[guidance]\ndemos = {:?}\ndelta0 = 0.01\nalpha = 0.95\nwarmup = 50\n",
+            root.join("data/logo/hopper")
+        );
+        let file = root.join("c.toml");
+        std::fs::write(&file, toml).unwrap();
+        let mut config = TrainConfig::load(&file).unwrap();
+        // As if trained in another clone: the stored path is gone, its tail is here.
+        let guidance = config.guidance.as_mut().unwrap();
+        guidance.demos = Some(PathBuf::from("/gone/clone/data/logo/hopper"));
+        let notes = config.relocate_missing_paths(&root);
+        let demos = config.guidance.as_ref().unwrap().demos.clone().unwrap();
+        assert_eq!(
+            demos,
+            std::fs::canonicalize(root.join("data/logo/hopper")).unwrap()
+        );
+        assert_eq!(notes.len(), 1);
+        assert!(notes[0].starts_with("guidance.demos: /gone/clone/data/logo/hopper is not here"));
+        // An existing path stays; a single-component tail is not enough; no tail at all
+        // leaves the path for validation to name.
+        assert!(config.relocate_missing_paths(&root).is_empty());
+        config.init_policy = Some(PathBuf::from("/gone/policy.pt"));
+        config.guidance.as_mut().unwrap().demos = Some(PathBuf::from("/gone/elsewhere/nothing"));
+        assert!(config.relocate_missing_paths(&root).is_empty());
+        assert_eq!(config.init_policy, Some(PathBuf::from("/gone/policy.pt")));
+        std::fs::remove_dir_all(&root).unwrap();
     }
 }

@@ -442,6 +442,49 @@ fn a_resume_without_engine_flags_keeps_the_runs_float_type() {
 }
 
 #[test]
+fn a_run_copied_with_its_project_elsewhere_resumes_from_there() {
+    // Trained in one folder, then the folder moved (another clone, another machine):
+    // the checkpoint names the demonstrations by their old absolute path, and a resume
+    // started in the new folder finds them under it, saying so.
+    let old = scratch("moved-from");
+    let new = old.with_file_name(format!("{}-to", old.file_name().unwrap().to_string_lossy()));
+    let _ = std::fs::remove_dir_all(&new);
+    std::fs::create_dir_all(old.join("data")).unwrap();
+    write_npy(&old.join("data/demos.npy"), 40, 12);
+    let config = old.join("tiny.toml");
+    std::fs::write(&config, TINY.replace("\"demos.npy\"", "\"data/demos.npy\"")).unwrap();
+    let run = old.join("run");
+    succeed(&[
+        "train",
+        "--config",
+        config.to_str().unwrap(),
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    std::fs::rename(&old, &new).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_logo"))
+        .args([
+            "train",
+            "--resume",
+            "run",
+            "--iterations",
+            "3",
+            "--no-tensorboard",
+        ])
+        .current_dir(&new)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("note: guidance.demos:") && stderr.contains("is not here; using"),
+        "{stderr}"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("[   3/3]"));
+    std::fs::remove_dir_all(&new).unwrap();
+}
+
+#[test]
 fn a_run_folder_in_training_is_refused_to_a_second_process() {
     let (dir, config) = tiny_run("locked");
     let run = dir.join("run");

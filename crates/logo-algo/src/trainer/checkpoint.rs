@@ -93,6 +93,12 @@ fn read_resume_state(
     }
     let state: ResumeState = serde_json::from_value(extra["resume"].clone())
         .map_err(|e| format!("metadata resume state: {e}"))?;
+    // A run copied from another clone names files by that clone's absolute paths.
+    if let Ok(here) = std::env::current_dir() {
+        for note in config.relocate_missing_paths(&here) {
+            eprintln!("note: {note}");
+        }
+    }
     if let Some(n) = iterations {
         config.iterations = n;
     }
