@@ -76,6 +76,25 @@ fn keep_large_buffers() {
 #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
 fn keep_large_buffers() {}
 
+/// Output into a closed pipe (`logo summary … | head`) ends the process quietly, as it
+/// does other Unix tools, instead of panicking in `println!`: Rust ignores SIGPIPE
+/// unless told otherwise. A run killed so keeps its last checkpoint and resumes.
+#[cfg(unix)]
+fn quiet_on_closed_pipe() {
+    unsafe extern "C" {
+        fn signal(signum: i32, handler: usize) -> usize;
+    }
+    const SIGPIPE: i32 = 13;
+    const SIG_DFL: usize = 0;
+    // SAFETY: restores the default disposition of one signal, before any thread exists.
+    unsafe {
+        signal(SIGPIPE, SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn quiet_on_closed_pipe() {}
+
 /// The error and its causes on one line, each said once: library errors often repeat
 /// their source's message in their own, and the chain would print it again.
 fn one_line(e: &anyhow::Error) -> String {
@@ -91,6 +110,7 @@ fn one_line(e: &anyhow::Error) -> String {
 
 fn main() -> ExitCode {
     keep_large_buffers();
+    quiet_on_closed_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Envs => rollout::list_envs(),

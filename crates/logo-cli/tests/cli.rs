@@ -485,6 +485,39 @@ fn a_run_copied_with_its_project_elsewhere_resumes_from_there() {
 }
 
 #[test]
+#[cfg(unix)]
+fn output_into_a_closed_pipe_ends_quietly() {
+    use std::io::{BufRead, BufReader};
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    // `logo train … | head -1`: the reader goes away after a line; the run must end by
+    // SIGPIPE as Unix tools do, not with a panic and its backtrace.
+    let (dir, config) = tiny_run("closed-pipe");
+    let config = config.to_str().unwrap().to_string();
+    let text = std::fs::read_to_string(&config)
+        .unwrap()
+        .replace("iterations = 2", "iterations = 200");
+    std::fs::write(&config, text).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_logo"))
+        .args(["train", "--config", &config, "--out"])
+        .arg(dir.join("run"))
+        .arg("--no-tensorboard")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    // The reading end is dropped here.
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(out.status.signal(), Some(13), "{first}{stderr}");
+}
+
+#[test]
 fn a_run_folder_in_training_is_refused_to_a_second_process() {
     let (dir, config) = tiny_run("locked");
     let run = dir.join("run");
