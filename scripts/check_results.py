@@ -29,6 +29,9 @@ holds seed*/ runs, and a .csv path is one run):
            cols=COLUMN:A-B;...    metrics.csv column over iterations A..B (0-based, inclusive)
   cells    rXcY=STAT@GROUP ...    single cells (X, Y 1-based over body rows and columns)
            [quoted=...]
+  evals    runs=PATH;PATH;...     one row per run: its eval-20.txt (`logo eval` output),
+                                  columns by header: "dense return", "x moved" (mean ±
+                                  std), "action RMS", "length"
 
 Exit status 1 on any mismatch, listing table, row, column, document and data.
 Usage: scripts/check_results.py [docs/results.md]
@@ -377,6 +380,22 @@ def check_table(kind, opts, header, body):
                         raise SystemExit(f"{group}: fewer than {b + 1} iterations with {column}")
                     means.append(statistics.fmean(values))
                 compare(r, c, pm(means))
+    elif kind == "evals":
+        for r, path in enumerate(opts["runs"].split(";")):
+            text = (ROOT / "docs/results" / path / "eval-20.txt").read_text()
+            line = next(l for l in text.splitlines() if "dense return" in l)
+            fields = {}
+            for part in line.split("|"):
+                for name in ("dense return", "x moved", "action RMS", "length"):
+                    if name in part:
+                        fields[name] = part.split(name, 1)[1].strip()
+            for c in range(1, len(header)):
+                if c + 1 in quoted:
+                    continue
+                name = next((n for n in fields if n in header[c]), None)
+                if name is None:
+                    raise SystemExit(f"column {c + 1} `{header[c]}`: unknown; name it in quoted=")
+                compare(r, c, fields[name])
     elif kind == "cells":
         for key, spec in opts.items():
             m = re.fullmatch(r"r(\d+)c(\d+)", key)

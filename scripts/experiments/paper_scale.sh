@@ -41,7 +41,7 @@ main() {
       "$logo" eval --checkpoint "$run/checkpoint.safetensors" --episodes 20 \
         --env "${curve}-v4" > "$run/eval-20.txt"
     done
-    reference="$curves/${curve}_LOGO_ref.csv,samples,rewards/eval_R_avg,reference code (1 seed)"
+    reference="$curves/${curve}_LOGO_ref.csv,samples,rewards/eval_R_avg,reference code"
     "$logo" plot "$out/$env" --out "$out/$env.png" --paper-lines --smooth 5 --external "$reference"
     # At equal samples, every run read as the reference curve is quoted: the mean of the
     # 10 evaluations nearest each budget.
