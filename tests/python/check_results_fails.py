@@ -13,6 +13,20 @@ GOOD = """<!-- check summary rows=four-envs/hopper/logo-hopper -->
 | LOGO | 3 | 1617 ± 931 | 1611 ± 920 |
 """
 
+# An outside curve's row and a column read as the mean of the 10 nearest evaluations.
+WINDOWED = """<!-- check summary rows=four-envs/hopper/logo-hopper;reference-curves/Hopper_LOGO_ref.csv@rewards/eval_R_avg -->
+| configuration | seeds | at 1.00M, mean of 10 | at 10.00M, mean of 10 |
+| --- | --- | --- | --- |
+| LOGO | 3 | 1108 ± 91 | — |
+| reference code | 1 | 51 ± 0 | 2145 ± 0 |
+"""
+# A run's 20-episode `logo eval` output.
+EVALS = """<!-- check evals runs=paper-scale/hopper/hopper/seed1 -->
+| run | dense return (20 episodes) | length | action RMS |
+| --- | --- | --- | --- |
+| seed 1 | 3118 ± 24 | 1000 | 1.37 |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -25,10 +39,17 @@ def check(text):
 
 def main():
     failures = []
-    code, out = check(GOOD)
-    if code != 0:
-        failures.append(f"a correct table failed:\n{out}")
+    for good in (GOOD, WINDOWED, EVALS):
+        code, out = check(good)
+        if code != 0:
+            failures.append(f"a correct table failed:\n{out}")
     cases = {
+        "a wrong windowed std": WINDOWED.replace("1108 ± 91", "1108 ± 92"),
+        "an outside curve's wrong value": WINDOWED.replace("2145 ± 0", "2173 ± 0"),
+        "a value where the runs stop short": WINDOWED.replace("| — |", "| 1601 ± 920 |"),
+        "an outside curve's wrong column": WINDOWED.replace("@rewards/eval_R_avg", "@KL"),
+        "a wrong 20-episode mean": EVALS.replace("3118 ± 24", "3120 ± 24"),
+        "a wrong episode length": EVALS.replace("| 1000 |", "| 999 |"),
         "a wrong mean": GOOD.replace("1617 ± 931", "1618 ± 931"),
         "a wrong std": GOOD.replace("1611 ± 920", "1611 ± 922"),
         "a wrong count": GOOD.replace("| 3 |", "| 4 |"),
@@ -43,7 +64,7 @@ def main():
     if failures:
         print("\n".join(failures))
         return 1
-    print(f"check_results.py: a correct table passes, {len(cases)} wrong ones fail")
+    print(f"check_results.py: 3 correct tables pass, {len(cases)} wrong ones fail")
     return 0
 
 
