@@ -13,13 +13,13 @@ main() {
   shift $(( $# < 3 ? $# : 3 ))
   local logo="${LOGO:-./target/release/logo}" curves=docs/results/reference-curves
   mkdir -p "$out"
-  local env variant curve reference run
+  local env variant curve reference run failed=0
   for env in hopper walker2d halfcheetah; do
     # Twin-min critics need the rewardless improvement step skipped on Hopper (issue 13).
     variant="configs/logo-ppo-cdq/$env.toml"
     [ "$env" = hopper ] && variant=configs/experiments/hopper_ppo_cdq_skip_rewardless.toml
     "$logo" sweep "configs/logo/$env.toml" "$variant" --seeds 0..3 --jobs "$jobs" \
-      --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" "$@"
+      --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" "$@" || failed=1
     if [ "$env" = halfcheetah ]; then
       # The fall study's like-for-like arm (the reference code's F·v), extended from its
       # committed 2M checkpoints in float64, as it trained: does it fall after its peak
@@ -28,7 +28,7 @@ main() {
       [ -d "$arm" ] || cp -r docs/results/halfcheetah-fall/halfcheetah_reference_fisher "$arm"
       "$logo" sweep configs/experiments/halfcheetah_reference_fisher.toml --seeds 0..3 \
         --jobs "$jobs" --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" \
-        --dtype f64
+        --dtype f64 || failed=1
     fi
     case "$env" in
       hopper) curve=Hopper ;;
@@ -37,7 +37,10 @@ main() {
     esac
     # Each final policy over 20 episodes of the dense env, mean action, on the engine
     # it trained on (the per-iteration evaluation has 3).
+    # A failed run (the sweep named its log) is left out here and retried by the next
+    # call; the other envs go on.
     for run in "$out/$env"/*/seed*; do
+      [ -f "$run/checkpoint.safetensors" ] || continue
       "$logo" eval --checkpoint "$run/checkpoint.safetensors" --episodes 20 \
         --env "${curve}-v4" > "$run/eval-20.txt"
     done
@@ -48,6 +51,7 @@ main() {
     "$logo" summary "$out/$env" --external "$reference" --window 10 \
       --at 1M --at 2M --at 5M --at 10M --at 20M --at 30M > "$out/$env.md"
   done
+  return "$failed"
 }
 
 # Read whole before it runs: editing this file while a sweep runs cannot change it.
