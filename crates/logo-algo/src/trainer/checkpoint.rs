@@ -106,15 +106,23 @@ fn read_resume_state(
         .validate()
         .map_err(|e| format!("metadata config: {e}"))?;
     state.check(&config)?;
-    // The stored config must describe the stored networks (it sizes them before the
-    // tensors are read) and the algorithm that wrote them.
-    let meta = &ckpt.meta;
+    check_config_against_meta(&ckpt.meta, &config, &state)?;
+    Ok((config, state))
+}
+
+/// The stored config must describe the stored networks (it sizes them before the
+/// tensors are read), the algorithm that wrote them and the iteration reached.
+fn check_config_against_meta(
+    meta: &CheckpointMeta,
+    config: &TrainConfig,
+    state: &ResumeState,
+) -> Result<(), String> {
     for (what, found, expected) in [
         ("env", meta.env_id.clone(), config.env.clone()),
         (
             "algorithm",
             meta.algorithm.clone(),
-            checkpoint_algorithm(&config).to_string(),
+            checkpoint_algorithm(config).to_string(),
         ),
         (
             "policy network",
@@ -139,7 +147,7 @@ fn read_resume_state(
             meta.iteration, state.iteration
         ));
     }
-    Ok((config, state))
+    Ok(())
 }
 
 impl ResumeState {
