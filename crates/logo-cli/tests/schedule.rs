@@ -1,6 +1,6 @@
 //! The pipelined schedule computes exactly what the sequential one does, at one thread
 //! and at two, and a pipelined run killed (SIGKILL) at any moment resumes to the same
-//! final checkpoint and metrics as one never interrupted.
+//! final checkpoint and metrics as one never interrupted, on its own float type.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -223,6 +223,41 @@ fn a_pipelined_run_killed_at_any_moment_resumes_to_the_same_end() {
     assert!(
         killed_mid_run >= 5 && resumed >= 4,
         "of 6 kills {killed_mid_run} hit the run while it ran, {resumed} after a checkpoint"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_resume_without_engine_flags_keeps_the_runs_float_type() {
+    // A float32 run stopped after 4 iterations and resumed with no engine flag ends as
+    // the same run never stopped: it does not slip into the float64 default.
+    let dir = scratch("float32");
+    let config = config(&dir, "");
+    let (whole, parts) = (dir.join("whole"), dir.join("parts"));
+    train(&config, &whole, &["--dtype", "f32", "--no-tensorboard"]);
+    let four = ["--dtype", "f32", "--iterations", "4", "--no-tensorboard"];
+    train(&config, &parts, &four);
+    let resumed = logo()
+        .args(["train", "--resume", parts.to_str().unwrap()])
+        .args(["--iterations", "6"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&resumed.stdout);
+    assert!(resumed.status.success(), "{stdout}");
+    assert!(stdout.contains("continuing on kernels f32"), "{stdout}");
+    assert_eq!(metrics(&parts), metrics(&whole));
+    // A flag still chooses another engine, and then nothing is said of the old one.
+    let again = logo()
+        .args(["train", "--resume", parts.to_str().unwrap()])
+        .args(["--iterations", "7", "--dtype", "f64"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&again.stdout);
+    assert!(
+        again.status.success()
+            && !stdout.contains("continuing on")
+            && stdout.contains("kernels f64"),
+        "{stdout}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
