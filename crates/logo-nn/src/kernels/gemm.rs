@@ -249,22 +249,21 @@ mod tests {
                 .collect()
         };
         let product = |offset: usize, b_transposed: bool| -> Vec<F> {
-            let a = place(m * k, offset);
-            let b = place(k * n, (offset * 3) % 16);
+            let (b_at, c_at) = ((offset * 3) % 16, (offset * 5) % 16);
+            let (a, b) = (place(m * k, offset), place(k * n, b_at));
             let b_strides = if b_transposed { (1, k) } else { (n, 1) };
-            let mut c = vec![F::ZERO; m * n + (offset * 5) % 16];
-            let c_at = (offset * 5) % 16;
+            let mut c = vec![F::ZERO; m * n + c_at];
             gemm(
                 (m, k, n),
                 &a[offset..],
                 (k, 1),
-                &b[(offset * 3) % 16..],
+                &b[b_at..],
                 b_strides,
                 &mut c[c_at..],
                 Start::Zero,
                 Finish::None,
             );
-            c[c_at..].iter().map(|v| F::from_f64(v.to_f64())).collect()
+            c.split_off(c_at)
         };
         for b_transposed in [false, true] {
             let first = product(0, b_transposed);
