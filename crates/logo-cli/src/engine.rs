@@ -97,6 +97,20 @@ impl EngineArgs {
         })
     }
 
+    /// These flags where any is given; else those of `trained_on` (the engine a run
+    /// last trained on, as `Engine::describe` names it) where this build knows that
+    /// name and `usable` accepts it. Also says whether `trained_on` was taken.
+    pub fn or_trained_on(
+        &self,
+        trained_on: Option<&str>,
+        usable: impl Fn(&Self) -> bool,
+    ) -> (Self, bool) {
+        match trained_on.and_then(Self::from_description) {
+            Some(last) if self.is_unset() && usable(&last) => (last, true),
+            _ => (self.clone(), false),
+        }
+    }
+
     /// Whether this engine runs on the CPU (the kernels, or burn on ndarray): one every
     /// build of `logo` has.
     pub fn on_cpu(&self) -> bool {

@@ -93,13 +93,8 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     let meta = &meta;
     let history = logo_algo::engine_history(meta)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.checkpoint.display()))?;
-    let last = history
-        .last()
-        .and_then(|span| EngineArgs::from_description(&span.engine));
-    let engine_args = match last {
-        Some(last) if args.engine.is_unset() && last.on_cpu() => last,
-        _ => args.engine.clone(),
-    };
+    let last = history.last().map(|span| span.engine.as_str());
+    let (engine_args, _) = args.engine.or_trained_on(last, EngineArgs::on_cpu);
     let (acting, engine) = engine_args.with(OnEngine(&policy))?;
     let trained_on = history
         .iter()

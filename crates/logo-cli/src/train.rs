@@ -116,16 +116,15 @@ pub fn run(args: &TrainArgs) -> Result<()> {
     if let Some(dir) = &args.resume {
         let start = Start::Resume(dir.clone(), args.iterations);
         let schedule = args.schedule.into();
-        let engine = match last_engine(dir) {
-            Some((flags, name)) if args.engine.is_unset() => {
-                println!(
-                    "continuing on {name}, the engine this run last trained on \
-                     (--engine, --backend or --dtype choose another)"
-                );
-                flags
-            }
-            _ => args.engine.clone(),
-        };
+        let last = last_engine(dir);
+        let (engine, taken) = args.engine.or_trained_on(last.as_deref(), |_| true);
+        if taken {
+            println!(
+                "continuing on {}, the engine this run last trained on \
+                 (--engine, --backend or --dtype choose another)",
+                last.unwrap_or_default()
+            );
+        }
         return engine.with(Train {
             start,
             stop,
@@ -164,16 +163,17 @@ pub fn run(args: &TrainArgs) -> Result<()> {
     })
 }
 
-/// The engine the run in `dir` last trained on, as flags and as named, from its
-/// checkpoint's history; None where that cannot be read (the resume itself then says
-/// what is wrong with the checkpoint) or names an engine this build does not know.
-fn last_engine(dir: &Path) -> Option<(EngineArgs, String)> {
+/// The engine the run in `dir` last trained on, as its checkpoint's history names it;
+/// None where that cannot be read (the resume itself then says what is wrong with the
+/// checkpoint).
+fn last_engine(dir: &Path) -> Option<String> {
     let checkpoint = Checkpoint::load(&dir.join(CHECKPOINT)).ok()?;
-    let name = logo_algo::engine_history(&checkpoint.meta)
-        .ok()?
-        .pop()?
-        .engine;
-    Some((EngineArgs::from_description(&name)?, name))
+    Some(
+        logo_algo::engine_history(&checkpoint.meta)
+            .ok()?
+            .pop()?
+            .engine,
+    )
 }
 
 /// `logo train` on the chosen engine.
