@@ -194,7 +194,8 @@ fn one_logo_iteration_on_wgpu_matches_ndarray_at_f32() {
 }
 
 /// `logo train --backend wgpu` for 2 iterations writes a checkpoint that `logo eval`
-/// (which acts on the host copy) loads, and that training resumes from on ndarray.
+/// (which acts on the host copy) loads, that training resumes from on wgpu when no engine
+/// is named, and on the CPU kernels when `--engine kernels` is.
 #[test]
 fn a_wgpu_run_is_evaluated_and_resumed_on_the_cpu() {
     if !vulkan() {
@@ -261,6 +262,7 @@ fn a_wgpu_run_is_evaluated_and_resumed_on_the_cpu() {
         evaluated.contains("InvertedDoublePendulum-v4") && evaluated.contains("dense return"),
         "{evaluated}"
     );
+    // Without engine flags a resume stays on the engine the run last trained on...
     let resumed = logo(&[
         "train",
         "--resume",
@@ -269,8 +271,22 @@ fn a_wgpu_run_is_evaluated_and_resumed_on_the_cpu() {
         "3",
     ]);
     assert!(
-        resumed.contains("kernels f64") && resumed.contains("[   3/3]"),
+        resumed.contains("burn wgpu f32") && resumed.contains("[   3/3]"),
         "{resumed}"
+    );
+    // ...and `--engine` moves it to the CPU kernels.
+    let moved = logo(&[
+        "train",
+        "--resume",
+        run.to_str().unwrap(),
+        "--iterations",
+        "4",
+        "--engine",
+        "kernels",
+    ]);
+    assert!(
+        moved.contains("kernels f64") && moved.contains("[   4/4]"),
+        "{moved}"
     );
 }
 
