@@ -46,7 +46,9 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     );
     let started = Instant::now();
     let mut pending: Vec<usize> = (0..runs.len()).rev().collect();
-    let mut running: Vec<(usize, Child, usize)> = Vec::new(); // (run, child, rows at start)
+    let mut running: Vec<(usize, Child)> = Vec::new();
+    // Rows each run had when this invocation started it: the ETA counts only rows made here.
+    let mut rows_at_start: Vec<Option<usize>> = vec![None; runs.len()];
     let mut outcomes: Vec<Option<Outcome>> = (0..runs.len()).map(|_| None).collect();
     let mut last_progress = Instant::now();
     loop {
@@ -61,7 +63,8 @@ pub fn run(args: &SweepArgs) -> Result<()> {
                         spec.label(),
                         spec.log().display()
                     );
-                    running.push((i, child, spec.rows()));
+                    rows_at_start[i] = Some(spec.rows());
+                    running.push((i, child));
                 }
                 Err(e) => {
                     println!("[sweep] FAILED to start {}: {e:#}", spec.label());
@@ -74,7 +77,7 @@ pub fn run(args: &SweepArgs) -> Result<()> {
         }
         let mut k = 0;
         while k < running.len() {
-            let (i, child, _) = &mut running[k];
+            let (i, child) = &mut running[k];
             match child.try_wait()? {
                 Some(status) => {
                     let i = *i;
@@ -86,7 +89,10 @@ pub fn run(args: &SweepArgs) -> Result<()> {
         }
         if last_progress.elapsed() >= Duration::from_secs(args.progress_every.max(1)) {
             last_progress = Instant::now();
-            println!("{}", progress(&runs, &outcomes, &running, started));
+            println!(
+                "{}",
+                progress(&runs, &outcomes, &rows_at_start, running.len(), started)
+            );
         }
         std::thread::sleep(Duration::from_millis(200));
     }
@@ -110,7 +116,8 @@ fn finished(spec: &RunSpec, status: ExitStatus) -> Outcome {
 fn progress(
     runs: &[RunSpec],
     outcomes: &[Option<Outcome>],
-    running: &[(usize, Child, usize)],
+    rows_at_start: &[Option<usize>],
+    running: usize,
     started: Instant,
 ) -> String {
     let done = outcomes
@@ -121,20 +128,12 @@ fn progress(
         .iter()
         .filter(|o| matches!(o, Some(Outcome::Failed(_))))
         .count();
-    let (mut made, mut left) = (0usize, 0usize);
-    for (i, spec) in runs.iter().enumerate() {
-        let rows = spec.rows().min(spec.iterations);
-        match &outcomes[i] {
-            Some(Outcome::Finished) => made += rows,
-            Some(_) => {}
-            None => {
-                left += spec.iterations - rows;
-                if let Some((_, _, at_start)) = running.iter().find(|(r, _, _)| *r == i) {
-                    made += rows.saturating_sub(*at_start);
-                }
-            }
-        }
-    }
+    let (made, left) = made_and_left(runs.iter().enumerate().map(|(i, spec)| RunProgress {
+        rows: spec.rows().min(spec.iterations),
+        iterations: spec.iterations,
+        at_start: rows_at_start[i],
+        open: outcomes[i].is_none(),
+    }));
     let elapsed = started.elapsed().as_secs_f64();
     let eta = if made > 0 {
         let seconds = elapsed / made as f64 * left as f64;
@@ -147,11 +146,37 @@ fn progress(
         "ETA unknown".into()
     };
     format!(
-        "[sweep] {done}/{} runs done, {} running, {failed} failed, {eta} ({:.0} s elapsed)",
+        "[sweep] {done}/{} runs done, {running} running, {failed} failed, {eta} ({:.0} s elapsed)",
         runs.len(),
-        running.len(),
         elapsed
     )
+}
+
+/// One run as the ETA sees it.
+struct RunProgress {
+    /// Iterations in its metrics now.
+    rows: usize,
+    iterations: usize,
+    /// Iterations it had when this invocation started it; None if it was not started here.
+    at_start: Option<usize>,
+    /// Neither finished, skipped nor failed.
+    open: bool,
+}
+
+/// Iterations made by this invocation, and iterations still to make. What a resumed run
+/// had made before it was started here is not this invocation's speed: counting it made
+/// a sweep resumed near the end of two runs promise minutes for hours of work.
+fn made_and_left(runs: impl IntoIterator<Item = RunProgress>) -> (usize, usize) {
+    let (mut made, mut left) = (0, 0);
+    for run in runs {
+        if let Some(at_start) = run.at_start {
+            made += run.rows.saturating_sub(at_start);
+        }
+        if run.open {
+            left += run.iterations.saturating_sub(run.rows);
+        }
+    }
+    (made, left)
 }
 
 fn summary(runs: &[RunSpec], outcomes: &[Option<Outcome>], started: Instant) -> Result<()> {
@@ -211,4 +236,29 @@ pub fn run_task(args: &TaskArgs) -> Result<()> {
     );
     println!("{} finished", spec.label());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(rows: usize, at_start: Option<usize>, open: bool) -> RunProgress {
+        RunProgress {
+            rows,
+            iterations: 500,
+            at_start,
+            open,
+        }
+    }
+
+    #[test]
+    fn the_eta_counts_only_iterations_made_by_this_invocation() {
+        let (made, left) = made_and_left([
+            run(500, Some(450), false), // resumed at 450, finished here: 50 made
+            run(500, None, false),      // finished before: skipped
+            run(50, Some(0), true),     // started here: 50 made, 450 left
+            run(0, None, true),         // pending: 500 left
+        ]);
+        assert_eq!((made, left), (100, 950));
+    }
 }
