@@ -53,6 +53,10 @@ pub struct PlotArgs {
     /// at an equal budget (e.g. 1e6 or 1000000).
     #[arg(long, value_parser = parse_max_samples)]
     max_samples: Option<f64>,
+    /// Draw every seed as its own line ("<configuration> seed N") instead of the mean ±
+    /// std band over a configuration's seeds: for studies of one to three seeds.
+    #[arg(long)]
+    each_seed: bool,
     /// An outside curve drawn over the runs' bands: CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]
     /// (e.g. a published curve: docs/results/reference-curves/). Empty fields are
     /// skipped; --smooth and --max-samples apply to it too. Repeatable.
@@ -156,6 +160,7 @@ pub fn external_runs(specs: &[ExternalSpec]) -> Result<Vec<Run>> {
         .map(|spec| {
             Ok(Run {
                 group: spec.label.clone(),
+                seed: None,
                 env: None,
                 points: read_external(spec)?,
             })
@@ -276,6 +281,8 @@ fn parse_hline(text: &str) -> Result<(String, f64), String> {
 #[derive(Debug, Clone)]
 pub struct Run {
     pub group: String,
+    /// N of a `seed<N>` or `<name>-seed<N>` folder.
+    pub seed: Option<u64>,
     pub env: Option<String>,
     /// (samples, the metric), in order, iterations where the metric is defined only.
     pub points: Vec<(f64, f64)>,
@@ -374,29 +381,38 @@ fn read_run(dir: &Path, metric: &Metric) -> Result<Run> {
             .unwrap_or_default()
     };
     let folder = name(dir);
-    let group = group_of(&folder, dir.parent().map(name));
+    let (group, seed) = group_of(&folder, dir.parent().map(name));
     let env = std::fs::read_to_string(dir.join("config.toml"))
         .ok()
         .and_then(|t| t.parse::<toml::Table>().ok())
         .and_then(|t| t.get("env").and_then(|e| e.as_str()).map(String::from));
-    Ok(Run { group, env, points })
+    Ok(Run {
+        group,
+        seed,
+        env,
+        points,
+    })
 }
 
-/// A run's group: its parent's name for `seed<N>` (a sweep's layout), `<name>` for
-/// `<name>-seed<N>`, else the folder's own name.
-fn group_of(folder: &str, parent: Option<String>) -> String {
-    let is_seed = |s: &str| {
-        s.strip_prefix("seed")
-            .is_some_and(|n| n.parse::<u64>().is_ok())
-    };
-    if is_seed(folder)
-        && let Some(parent) = parent
-    {
-        return parent;
+/// A run's group and seed: its parent's name for `seed<N>` (a sweep's layout), `<name>`
+/// for `<name>-seed<N>`, else the folder's own name (and no seed).
+fn group_of(folder: &str, parent: Option<String>) -> (String, Option<u64>) {
+    let seed_of = |s: &str| s.strip_prefix("seed").and_then(|n| n.parse::<u64>().ok());
+    if let (Some(seed), Some(parent)) = (seed_of(folder), parent) {
+        return (parent, Some(seed));
     }
     match folder.rsplit_once('-') {
-        Some((name, seed)) if is_seed(seed) => name.to_string(),
-        _ => folder.to_string(),
+        Some((name, seed)) if seed_of(seed).is_some() => (name.to_string(), seed_of(seed)),
+        _ => (folder.to_string(), None),
+    }
+}
+
+/// `--each-seed`: every run with a seed becomes a group of its own, "<group> seed N".
+pub fn each_seed_apart(runs: &mut [Run]) {
+    for run in runs {
+        if let Some(seed) = run.seed {
+            run.group = format!("{} seed {seed}", run.group);
+        }
     }
 }
 
@@ -498,6 +514,9 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         log10: args.log10,
     };
     let mut runs = discover(&args.runs, &metric)?;
+    if args.each_seed {
+        each_seed_apart(&mut runs);
+    }
     if let Some(max_samples) = args.max_samples {
         up_to(&mut runs, max_samples)?;
     }
@@ -772,6 +791,7 @@ mod tests {
     fn run(group: &str, points: &[(f64, f64)]) -> Run {
         Run {
             group: group.into(),
+            seed: None,
             env: None,
             points: points.to_vec(),
         }
@@ -817,13 +837,42 @@ mod tests {
 
     #[test]
     fn runs_group_by_sweep_and_script_layouts() {
-        assert_eq!(group_of("seed3", Some("logo-hopper".into())), "logo-hopper");
-        assert_eq!(group_of("logo-seed0", Some("idp".into())), "logo");
+        let group = |folder: &str, parent: &str| group_of(folder, Some(parent.into()));
         assert_eq!(
-            group_of("hopper-logo-s0", Some("runs".into())),
-            "hopper-logo-s0"
+            group("seed3", "logo-hopper"),
+            ("logo-hopper".into(), Some(3))
         );
-        assert_eq!(group_of("seedling", Some("x".into())), "seedling");
+        assert_eq!(group("logo-seed0", "idp"), ("logo".into(), Some(0)));
+        assert_eq!(
+            group("hopper-logo-s0", "runs"),
+            ("hopper-logo-s0".into(), None)
+        );
+        assert_eq!(group("seedling", "x"), ("seedling".into(), None));
+    }
+
+    #[test]
+    fn each_seed_apart_gives_every_seeded_run_its_own_curve() {
+        let mut runs = vec![
+            run("logo", &[(1.0, 10.0)]),
+            run("logo", &[(1.0, 30.0)]),
+            run("reference", &[(1.0, 5.0)]),
+        ];
+        runs[0].seed = Some(0);
+        runs[1].seed = Some(2);
+        each_seed_apart(&mut runs);
+        let curves = curves(&runs, 1, 2).unwrap();
+        let lines: Vec<(&str, usize, f64)> = curves
+            .iter()
+            .map(|c| (c.group.as_str(), c.seeds, c.mean[0]))
+            .collect();
+        assert_eq!(
+            lines,
+            [
+                ("logo seed 0", 1, 10.0),
+                ("logo seed 2", 1, 30.0),
+                ("reference", 1, 5.0)
+            ]
+        );
     }
 
     #[test]

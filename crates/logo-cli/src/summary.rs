@@ -13,8 +13,8 @@ use anyhow::{Result, bail, ensure};
 use clap::Args;
 
 use crate::plot::{
-    ExternalSpec, Metric, Run, discover, external_runs, interpolate, parse_external,
-    parse_max_samples, up_to,
+    ExternalSpec, Metric, Run, discover, each_seed_apart, external_runs, interpolate,
+    parse_external, parse_max_samples, up_to,
 };
 
 #[derive(Args)]
@@ -40,6 +40,9 @@ pub struct SummaryArgs {
     /// Read each run only up to this many samples, as `logo plot --max-samples`.
     #[arg(long, value_parser = parse_max_samples)]
     max_samples: Option<f64>,
+    /// One row per seed ("<configuration> seed N"), as `logo plot --each-seed`.
+    #[arg(long)]
+    each_seed: bool,
     /// An outside curve as one more row (one seed): CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL],
     /// as `logo plot --external`. Repeatable.
     #[arg(long = "external", value_parser = parse_external)]
@@ -250,6 +253,9 @@ pub fn table(runs: &[Run], at: &[f64], rule: AtRule, threshold: Option<f64>) -> 
 
 pub fn run(args: &SummaryArgs) -> Result<()> {
     let mut runs = discover(&args.runs, &Metric::eval_return())?;
+    if args.each_seed {
+        each_seed_apart(&mut runs);
+    }
     let external = external_runs(&args.externals)?;
     if let Some(clash) = external
         .iter()
@@ -276,6 +282,7 @@ mod tests {
     fn run(group: &str, points: &[(f64, f64)]) -> Run {
         Run {
             group: group.into(),
+            seed: None,
             env: None,
             points: points.to_vec(),
         }

@@ -176,6 +176,20 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
     let bad = summary(&external, "2G");
     let text = String::from_utf8_lossy(&bad.stderr);
     assert!(!bad.status.success() && text.contains("2G"), "{text}");
+    // --each-seed: one row per seed of config b, each its own one-seed configuration.
+    let apart = logo(&["summary", out.join("b").to_str().unwrap(), "--each-seed"]);
+    let text = String::from_utf8_lossy(&apart.stdout);
+    let labels: Vec<&str> = text
+        .lines()
+        .skip(2)
+        .filter_map(|l| l.strip_prefix("| ")?.split(" |").next())
+        .collect();
+    assert!(apart.status.success(), "{text}");
+    assert_eq!(labels, ["b seed 0", "b seed 1"], "{text}");
+    assert!(
+        text.lines().skip(2).all(|l| l.contains(" | 1 | ")),
+        "{text}"
+    );
 
     for (name, runs) in [("b", 2)] {
         let seeds: Vec<Vec<Vec<String>>> = (0..runs)
