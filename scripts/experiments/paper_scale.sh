@@ -45,7 +45,10 @@ main() {
         --env "${curve}-v4" > "$run/eval-20.txt"
     done
     reference="$curves/${curve}_LOGO_ref.csv,samples,rewards/eval_R_avg,reference code"
-    "$logo" plot "$out/$env" --out "$out/$env.png" --paper-lines --smooth 5 --external "$reference"
+    # The reference curve runs to 30-50M: draw it to the runs' budget (an iteration is a
+    # little over 20,000 samples: episodes end whole).
+    "$logo" plot "$out/$env" --out "$out/$env.png" --paper-lines --smooth 5 --external "$reference" \
+      --max-samples "$(( iterations * 20600 ))"
     # At equal samples, every run read as the reference curve is quoted: the mean of the
     # 10 evaluations nearest each budget.
     "$logo" summary "$out/$env" --external "$reference" --window 10 \

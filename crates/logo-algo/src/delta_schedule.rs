@@ -7,7 +7,8 @@ use serde::{Deserialize, Serialize};
 
 /// δ_k: starts at δ_0; after the warm-up (iterations > K_δ, 0-based) it shrinks by α each
 /// time the batch's mean sparse return beats the mean of the previous (up to) 10, down
-/// to [`DELTA_FLOOR`]; guidance stops once δ_k is at the floor (docs/reference.md).
+/// to [`DELTA_FLOOR`]; guidance stops once δ_k is at or below [`GUIDANCE_THRESHOLD`], just
+/// above the floor (docs/reference.md).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DeltaSchedule {
     pub delta: f64,
