@@ -27,6 +27,13 @@ holds seed*/ runs, and a .csv path is one run):
            points=S,S,...; then mean ± std at the last
   windows  rows=GROUP;GROUP;...   per group, mean ± std over seeds of each run's mean of a
            cols=COLUMN:A-B;...    metrics.csv column over iterations A..B (0-based, inclusive)
+  verdicts rows=GROUP>CURVE;...   per row, at each column headed by a budget ("2M"), each
+           seeds=N window=W       seed's mean of its W evaluations nearest the budget
+                                  against an outside curve's (PATH.csv@COLUMN): "ahead"
+                                  when every seed is above it, "behind" when every seed is
+                                  below, else "mixed, K of N above"; then "(MEAN vs
+                                  CURVE)". Until a row has N seeds that reach the budget
+                                  (GROUP "-": none yet), its cell must hold no verdict.
   cells    rXcY=STAT@GROUP ...    single cells (X, Y 1-based over body rows and columns)
            [quoted=...]
   evals    runs=PATH;PATH;...     one row per run: its eval-20.txt (`logo eval` output),
@@ -396,6 +403,29 @@ def check_table(kind, opts, header, body):
                 if name is None:
                     raise SystemExit(f"column {c + 1} `{header[c]}`: unknown; name it in quoted=")
                 compare(r, c, fields[name])
+    elif kind == "verdicts":
+        seeds, window = int(opts["seeds"]), int(opts["window"])
+        for r, spec in enumerate(opts["rows"].split(";")):
+            group, _, curve = spec.partition(">")
+            path, _, metric = curve.partition("@")
+            reference = evaluations(read_run(run_file(path)), metric)
+            runs = [] if group == "-" else [evaluations(rows) for rows in group_runs(group)]
+            for c in range(len(header)):
+                x = parse_samples(header[c])
+                if x is None or c + 1 in quoted:
+                    continue
+                values = [v for p in runs if (v := window_at(p, x, window)) is not None]
+                checked += 1
+                if len(values) < seeds:
+                    if re.search(r"ahead|behind|mixed", body[r][c]):
+                        wrong.append((r + 1, header[c], body[r][c], f"no verdict: {len(values)} of {seeds} seeds reach it"))
+                    continue
+                ref = window_at(reference, x, window)
+                above = sum(v > ref for v in values)
+                word = "ahead" if above == len(values) else "behind" if above == 0 else f"mixed, {above} of {len(values)} above"
+                computed = f"{word} ({statistics.fmean(values)!r} vs {ref!r})"
+                if body[r][c].split("(")[0].strip() != word or not agrees(body[r][c], computed):
+                    wrong.append((r + 1, header[c], body[r][c], computed))
     elif kind == "cells":
         for key, spec in opts.items():
             m = re.fullmatch(r"r(\d+)c(\d+)", key)

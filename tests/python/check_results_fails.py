@@ -27,6 +27,15 @@ EVALS = """<!-- check evals runs=paper-scale/hopper/hopper/seed1 -->
 | seed 1 | 3118 ± 24 | 1000 | 1.37 |
 """
 
+# Ahead, behind or mixed against the reference curve at equal samples.
+REF = "reference-curves/Hopper_LOGO_ref.csv@rewards/eval_R_avg"
+VERDICTS = f"""<!-- check verdicts seeds=3 window=10 rows=paper-scale/hopper/hopper>{REF};->{REF} -->
+| env | configuration | 2M | 10M |
+| --- | --- | --- | --- |
+| Hopper | LOGO | ahead (1677 vs 50) | mixed, 2 of 3 above (2518 vs 2145) |
+| Hopper | not run | — | — |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -39,7 +48,7 @@ def check(text):
 
 def main():
     failures = []
-    for good in (GOOD, WINDOWED, EVALS):
+    for good in (GOOD, WINDOWED, EVALS, VERDICTS):
         code, out = check(good)
         if code != 0:
             failures.append(f"a correct table failed:\n{out}")
@@ -50,6 +59,11 @@ def main():
         "an outside curve's wrong column": WINDOWED.replace("@rewards/eval_R_avg", "@KL"),
         "a wrong 20-episode mean": EVALS.replace("3118 ± 24", "3120 ± 24"),
         "a wrong episode length": EVALS.replace("| 1000 |", "| 999 |"),
+        "a wrong verdict": VERDICTS.replace("ahead (1677", "behind (1677"),
+        "a wrong count of seeds above": VERDICTS.replace("2 of 3", "1 of 3"),
+        "a wrong mean beside a verdict": VERDICTS.replace("2518 vs", "2600 vs"),
+        "a verdict on a row without runs": VERDICTS.replace("| not run | — |", "| not run | ahead (1 vs 50) |"),
+        "a verdict with fewer seeds than named": VERDICTS.replace("seeds=3", "seeds=4"),
         "a wrong mean": GOOD.replace("1617 ± 931", "1618 ± 931"),
         "a wrong std": GOOD.replace("1611 ± 920", "1611 ± 922"),
         "a wrong count": GOOD.replace("| 3 |", "| 4 |"),
@@ -64,7 +78,7 @@ def main():
     if failures:
         print("\n".join(failures))
         return 1
-    print(f"check_results.py: 3 correct tables pass, {len(cases)} wrong ones fail")
+    print(f"check_results.py: 4 correct tables pass, {len(cases)} wrong ones fail")
     return 0
 
 
