@@ -91,7 +91,7 @@ pub fn run(args: &SweepArgs) -> Result<()> {
             last_progress = Instant::now();
             println!(
                 "{}",
-                progress(&runs, &outcomes, &rows_at_start, running.len(), started)
+                progress(&runs, &outcomes, &rows_at_start, &running, started)
             );
         }
         std::thread::sleep(Duration::from_millis(200));
@@ -111,13 +111,14 @@ fn finished(spec: &RunSpec, status: ExitStatus) -> Outcome {
     }
 }
 
-/// "3/10 runs done, 2 running, 0 failed, ETA 4m 10s": the ETA from the iterations done
-/// in this invocation per second, over the iterations left.
+/// "3/10 runs done, 2 running (a/seed3 120/500, b/seed0 80/500), 0 failed, ETA 4m 10s":
+/// the ETA from the iterations done in this invocation per second, over the iterations
+/// left.
 fn progress(
     runs: &[RunSpec],
     outcomes: &[Option<Outcome>],
     rows_at_start: &[Option<usize>],
-    running: usize,
+    running: &[(usize, Child)],
     started: Instant,
 ) -> String {
     let done = outcomes
@@ -145,9 +146,21 @@ fn progress(
     } else {
         "ETA unknown".into()
     };
+    let mut where_running = running
+        .iter()
+        .map(|(i, _)| {
+            let spec = &runs[*i];
+            format!("{} {}/{}", spec.label(), spec.rows(), spec.iterations)
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    if !where_running.is_empty() {
+        where_running = format!(" ({where_running})");
+    }
     format!(
-        "[sweep] {done}/{} runs done, {running} running, {failed} failed, {eta} ({:.0} s elapsed)",
+        "[sweep] {done}/{} runs done, {} running{where_running}, {failed} failed, {eta} ({:.0} s elapsed)",
         runs.len(),
+        running.len(),
         elapsed
     )
 }
