@@ -401,9 +401,12 @@ fn group_of(folder: &str, parent: Option<String>) -> (String, Option<u64>) {
     if let (Some(seed), Some(parent)) = (seed_of(folder), parent) {
         return (parent, Some(seed));
     }
-    match folder.rsplit_once('-') {
-        Some((name, seed)) if seed_of(seed).is_some() => (name.to_string(), seed_of(seed)),
-        _ => (folder.to_string(), None),
+    match folder
+        .rsplit_once('-')
+        .and_then(|(name, seed)| Some((name, seed_of(seed)?)))
+    {
+        Some((name, seed)) => (name.to_string(), Some(seed)),
+        None => (folder.to_string(), None),
     }
 }
 

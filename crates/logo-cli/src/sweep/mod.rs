@@ -129,8 +129,10 @@ fn progress(
         .iter()
         .filter(|o| matches!(o, Some(Outcome::Failed(_))))
         .count();
+    // Each run's metrics read once: the ETA and the running runs' places share them.
+    let rows: Vec<usize> = runs.iter().map(RunSpec::rows).collect();
     let (made, left) = made_and_left(runs.iter().enumerate().map(|(i, spec)| RunProgress {
-        rows: spec.rows().min(spec.iterations),
+        rows: rows[i].min(spec.iterations),
         iterations: spec.iterations,
         at_start: rows_at_start[i],
         open: outcomes[i].is_none(),
@@ -150,7 +152,7 @@ fn progress(
         .iter()
         .map(|(i, _)| {
             let spec = &runs[*i];
-            format!("{} {}/{}", spec.label(), spec.rows(), spec.iterations)
+            format!("{} {}/{}", spec.label(), rows[*i], spec.iterations)
         })
         .collect::<Vec<_>>()
         .join(", ");
