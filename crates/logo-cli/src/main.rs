@@ -6,6 +6,7 @@ mod engine;
 mod eval;
 mod plot;
 mod rollout;
+mod runs;
 mod summary;
 mod sweep;
 mod train;

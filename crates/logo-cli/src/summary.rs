@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use anyhow::{Result, bail, ensure};
 use clap::Args;
 
-use crate::plot::{
+use crate::runs::{
     ExternalSpec, Metric, Run, discover, each_seed_apart, external_runs, interpolate,
     parse_external, parse_max_samples, up_to,
 };

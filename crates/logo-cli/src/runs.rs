@@ -1,0 +1,417 @@
+//! The runs `logo plot` and `logo summary` read: every run folder under the paths given
+//! (a folder holding `metrics.csv` is a run; any other folder is searched two levels
+//! down, so a `logo sweep` folder reads as a whole), one column of each as (samples,
+//! value) points, grouped into configurations by folder layout: runs in folders named
+//! `seed<N>` by their parent folder (a sweep's `<out>/<name>/seed<N>`), `<name>-seed<N>`
+//! by `<name>`, any other run on its own. Outside curves (`--external`: a published or
+//! reference run, from any CSV) read as single-seed runs.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail, ensure};
+
+/// Where an outside curve comes from (`--external`).
+#[derive(Debug, Clone)]
+pub struct ExternalSpec {
+    pub path: PathBuf,
+    pub samples: String,
+    pub value: String,
+    pub label: String,
+}
+
+pub(crate) fn parse_external(text: &str) -> std::result::Result<ExternalSpec, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [path, samples, value, rest @ ..] = parts.as_slice() else {
+        return Err(format!(
+            "{text:?}: expected CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]"
+        ));
+    };
+    if rest.len() > 1 || [path, samples, value].iter().any(|p| p.is_empty()) {
+        return Err(format!(
+            "{text:?}: expected CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]"
+        ));
+    }
+    let path = PathBuf::from(path);
+    let label = match rest.first() {
+        Some(label) if !label.is_empty() => label.to_string(),
+        _ => path
+            .file_stem()
+            .map_or("external".into(), |s| s.to_string_lossy().into_owned()),
+    };
+    Ok(ExternalSpec {
+        path,
+        samples: samples.to_string(),
+        value: value.to_string(),
+        label,
+    })
+}
+
+/// An outside curve: (samples, value) in the file's order, rows with an empty field
+/// left out. A missing column, a field that is not a number, or no row at all is an
+/// error naming the file (and the row).
+pub fn read_external(spec: &ExternalSpec) -> Result<Vec<(f64, f64)>> {
+    let path = &spec.path;
+    let mut reader =
+        csv::Reader::from_path(path).with_context(|| format!("--external {}", path.display()))?;
+    let headers = reader
+        .headers()
+        .with_context(|| format!("--external {}", path.display()))?
+        .clone();
+    let column = |name: &str| {
+        headers.iter().position(|h| h == name).with_context(|| {
+            format!(
+                "--external {}: no column {name:?} (the columns are {})",
+                path.display(),
+                headers.iter().collect::<Vec<_>>().join(", ")
+            )
+        })
+    };
+    let (xs, ys) = (column(&spec.samples)?, column(&spec.value)?);
+    let mut points = Vec::new();
+    for (row, record) in reader.records().enumerate() {
+        let record = record.with_context(|| format!("--external {}", path.display()))?;
+        let field = |at: usize| -> Result<Option<f64>> {
+            let text = record.get(at).unwrap_or("").trim();
+            if text.is_empty() {
+                return Ok(None);
+            }
+            match text.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(Some(v)),
+                _ => bail!(
+                    "--external {}: row {}, column {:?}: {text:?} is not a finite number",
+                    path.display(),
+                    row + 1,
+                    &headers[at]
+                ),
+            }
+        };
+        if let (Some(x), Some(y)) = (field(xs)?, field(ys)?) {
+            points.push((x, y));
+        }
+    }
+    ensure!(
+        !points.is_empty(),
+        "--external {}: no row with both {:?} and {:?}",
+        path.display(),
+        spec.samples,
+        spec.value
+    );
+    Ok(points)
+}
+
+/// `--external` curves as single-seed [`Run`]s named by their labels.
+pub fn external_runs(specs: &[ExternalSpec]) -> Result<Vec<Run>> {
+    specs
+        .iter()
+        .map(|spec| {
+            Ok(Run {
+                group: spec.label.clone(),
+                seed: None,
+                env: None,
+                points: read_external(spec)?,
+            })
+        })
+        .collect()
+}
+/// A positive sample count: a number (`2000000`, `2e6`) or one with a `k` or `M` suffix
+/// (`500k`, `2M`).
+pub(crate) fn parse_max_samples(text: &str) -> std::result::Result<f64, String> {
+    let trimmed = text.trim();
+    let (digits, scale) = match trimmed.strip_suffix(['k', 'M']) {
+        Some(digits) if trimmed.ends_with('k') => (digits, 1e3),
+        Some(digits) => (digits, 1e6),
+        None => (trimmed, 1.0),
+    };
+    match digits.parse::<f64>() {
+        Ok(n) if n.is_finite() && n > 0.0 => Ok(n * scale),
+        _ => Err(format!(
+            "expected a positive number of samples (e.g. 2000000, 2e6, 2M, 500k), got {text:?}"
+        )),
+    }
+}
+
+/// Keeps each run's evaluations at or below `max_samples`; an error names a group whose
+/// run has none there.
+pub fn up_to(runs: &mut [Run], max_samples: f64) -> Result<()> {
+    for run in runs {
+        run.points.retain(|p| p.0 <= max_samples);
+        ensure!(
+            !run.points.is_empty(),
+            "--max-samples {max_samples}: a run of {} has no evaluation at or below it",
+            run.group
+        );
+    }
+    Ok(())
+}
+
+/// The column `logo plot` and `logo summary` read by default.
+pub const EVAL_RETURN: &str = "eval_dense_return";
+
+/// Which column of metrics.csv to read, and whether as its log10.
+#[derive(Debug, Clone)]
+pub struct Metric {
+    pub column: String,
+    pub log10: bool,
+}
+
+impl Metric {
+    pub fn eval_return() -> Self {
+        Self {
+            column: EVAL_RETURN.into(),
+            log10: false,
+        }
+    }
+
+    /// The axis label.
+    pub(crate) fn label(&self) -> String {
+        match (self.column.as_str(), self.log10) {
+            (EVAL_RETURN, false) => "dense evaluation return".into(),
+            (column, false) => column.into(),
+            (column, true) => format!("log10 {column}"),
+        }
+    }
+
+    /// The plotted value of one field, or None where it is not drawn.
+    fn value(&self, v: f64) -> Option<f64> {
+        let y = if self.log10 { v.log10() } else { v };
+        y.is_finite().then_some(y)
+    }
+}
+/// One run's evaluations.
+#[derive(Debug, Clone)]
+pub struct Run {
+    pub group: String,
+    /// N of a `seed<N>` or `<name>-seed<N>` folder.
+    pub seed: Option<u64>,
+    pub env: Option<String>,
+    /// (samples, the metric), in order, iterations where the metric is defined only.
+    pub points: Vec<(f64, f64)>,
+}
+/// Every run under `paths` (see the module doc), reading `metric`.
+pub fn discover(paths: &[PathBuf], metric: &Metric) -> Result<Vec<Run>> {
+    let mut dirs = Vec::new();
+    for path in paths {
+        ensure!(path.is_dir(), "{}: not a folder", path.display());
+        collect_runs(path, 3, &mut dirs)?;
+    }
+    ensure!(
+        !dirs.is_empty(),
+        "no run (a folder with metrics.csv) in {}",
+        paths
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    dirs.iter().map(|d| read_run(d, metric)).collect()
+}
+
+fn collect_runs(dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<()> {
+    if dir.join("metrics.csv").is_file() {
+        out.push(dir.to_path_buf());
+        return Ok(());
+    }
+    if depth == 0 {
+        return Ok(());
+    }
+    let mut children: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("{}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    children.sort();
+    for child in children {
+        collect_runs(&child, depth - 1, out)?;
+    }
+    Ok(())
+}
+
+fn read_run(dir: &Path, metric: &Metric) -> Result<Run> {
+    let path = dir.join("metrics.csv");
+    let mut reader =
+        csv::Reader::from_path(&path).with_context(|| format!("{}", path.display()))?;
+    let headers = reader
+        .headers()
+        .with_context(|| format!("{}", path.display()))?
+        .clone();
+    let column = |name: &str| {
+        headers
+            .iter()
+            .position(|h| h == name)
+            .with_context(|| format!("{}: no column {name:?}", path.display()))
+    };
+    let (samples_at, metric_at) = (column("samples")?, column(&metric.column)?);
+    let mut points = Vec::new();
+    for (line, record) in reader.records().enumerate() {
+        let record = record.with_context(|| format!("{}", path.display()))?;
+        let number = |at: usize| -> Result<f64> {
+            let field = record.get(at).unwrap_or("");
+            field.parse::<f64>().with_context(|| {
+                format!(
+                    "{}: row {}: {field:?} is not a number",
+                    path.display(),
+                    line + 1
+                )
+            })
+        };
+        if let Some(y) = metric.value(number(metric_at)?) {
+            points.push((number(samples_at)?, y));
+        }
+    }
+    ensure!(
+        !points.is_empty(),
+        "{}: no iteration with a finite {}",
+        path.display(),
+        metric.label()
+    );
+    let name = |p: &Path| {
+        p.file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let folder = name(dir);
+    let (group, seed) = group_of(&folder, dir.parent().map(name));
+    let env = std::fs::read_to_string(dir.join("config.toml"))
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+        .and_then(|t| t.get("env").and_then(|e| e.as_str()).map(String::from));
+    Ok(Run {
+        group,
+        seed,
+        env,
+        points,
+    })
+}
+
+/// A run's group and seed: its parent's name for `seed<N>` (a sweep's layout), `<name>`
+/// for `<name>-seed<N>`, else the folder's own name (and no seed).
+fn group_of(folder: &str, parent: Option<String>) -> (String, Option<u64>) {
+    let seed_of = |s: &str| s.strip_prefix("seed").and_then(|n| n.parse::<u64>().ok());
+    if let (Some(seed), Some(parent)) = (seed_of(folder), parent) {
+        return (parent, Some(seed));
+    }
+    match folder
+        .rsplit_once('-')
+        .and_then(|(name, seed)| Some((name, seed_of(seed)?)))
+    {
+        Some((name, seed)) => (name.to_string(), Some(seed)),
+        None => (folder.to_string(), None),
+    }
+}
+
+/// `--each-seed`: every run with a seed becomes a group of its own, "<group> seed N".
+pub fn each_seed_apart(runs: &mut [Run]) {
+    for run in runs {
+        if let Some(seed) = run.seed {
+            run.group = format!("{} seed {seed}", run.group);
+        }
+    }
+}
+/// The value of the piecewise-linear curve through `points` at `x` (inside its range).
+pub(crate) fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
+    let i = points.partition_point(|p| p.0 < x);
+    if i == 0 {
+        return points[0].1;
+    }
+    if i == points.len() {
+        return points[i - 1].1;
+    }
+    let ((x0, y0), (x1, y1)) = (points[i - 1], points[i]);
+    if x1 == x0 {
+        y1
+    } else {
+        y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(group: &str, points: &[(f64, f64)]) -> Run {
+        Run {
+            group: group.into(),
+            seed: None,
+            env: None,
+            points: points.to_vec(),
+        }
+    }
+
+    #[test]
+    fn max_samples_cuts_every_run_and_refuses_an_emptied_one() {
+        let mut runs = [
+            run("long", &[(0.0, 1.0), (10.0, 2.0), (20.0, 3.0)]),
+            run("short", &[(0.0, 1.0), (9.0, 2.0)]),
+        ];
+        up_to(&mut runs, 10.0).unwrap();
+        assert_eq!(runs[0].points, vec![(0.0, 1.0), (10.0, 2.0)]);
+        assert_eq!(runs[1].points, vec![(0.0, 1.0), (9.0, 2.0)]);
+        let mut late = [run("late", &[(5.0, 1.0)])];
+        let e = up_to(&mut late, 4.0).unwrap_err().to_string();
+        assert!(e.contains("late") && e.contains("--max-samples"), "{e}");
+        assert_eq!(parse_max_samples("2e6"), Ok(2e6));
+        assert_eq!(parse_max_samples("2M"), Ok(2e6));
+        assert_eq!(parse_max_samples("2.5M"), Ok(2.5e6));
+        assert_eq!(parse_max_samples("500k"), Ok(5e5));
+        for bad in ["", "M", "-1M", "0", "2G", "nan", "twoM"] {
+            assert!(parse_max_samples(bad).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn runs_group_by_sweep_and_script_layouts() {
+        let group = |folder: &str, parent: &str| group_of(folder, Some(parent.into()));
+        assert_eq!(
+            group("seed3", "logo-hopper"),
+            ("logo-hopper".into(), Some(3))
+        );
+        assert_eq!(group("logo-seed0", "idp"), ("logo".into(), Some(0)));
+        assert_eq!(
+            group("hopper-logo-s0", "runs"),
+            ("hopper-logo-s0".into(), None)
+        );
+        assert_eq!(group("seedling", "x"), ("seedling".into(), None));
+    }
+
+    #[test]
+    fn any_numeric_column_can_be_read_and_logged() {
+        let dir = std::env::temp_dir().join(format!("logo-plot-metric-{}", std::process::id()));
+        let run_dir = dir.join("arm").join("seed0");
+        std::fs::create_dir_all(&run_dir).unwrap();
+        std::fs::write(
+            run_dir.join("metrics.csv"),
+            "iteration,samples,eval_dense_return,guidance_kl,update_stop\n\
+             0,100,5.0,NaN,accepted\n\
+             1,200,NaN,0.01,accepted\n\
+             2,300,7.0,0.0,accepted\n\
+             3,400,8.0,1000.0,kl-limit\n",
+        )
+        .unwrap();
+        let read = |column: &str, log10| {
+            let metric = Metric {
+                column: column.into(),
+                log10,
+            };
+            discover(std::slice::from_ref(&dir), &metric)
+        };
+        let eval = read(EVAL_RETURN, false).unwrap();
+        assert_eq!(eval[0].group, "arm");
+        assert_eq!(
+            eval[0].points,
+            vec![(100.0, 5.0), (300.0, 7.0), (400.0, 8.0)]
+        );
+        // NaN and (in log space) zero are not drawn; the rest are log10'd exactly.
+        let kl = read("guidance_kl", true).unwrap();
+        assert_eq!(kl[0].points, vec![(200.0, -2.0), (400.0, 3.0)]);
+        let linear = read("guidance_kl", false).unwrap();
+        assert_eq!(linear[0].points.len(), 3);
+        let text = read("update_stop", false).unwrap_err().to_string();
+        assert!(
+            text.contains("row 1") && text.contains("accepted"),
+            "{text}"
+        );
+        let missing = format!("{:#}", read("critic_los", false).unwrap_err());
+        assert!(missing.contains("no column \"critic_los\""), "{missing}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
