@@ -103,16 +103,10 @@ pub fn read_external(spec: &ExternalSpec) -> Result<Vec<(f64, f64)>> {
 pub fn external_runs(specs: &[ExternalSpec]) -> Result<Vec<Run>> {
     specs
         .iter()
-        .map(|spec| {
-            Ok(Run {
-                group: spec.label.clone(),
-                seed: None,
-                env: None,
-                points: read_external(spec)?,
-            })
-        })
+        .map(|spec| Ok(Run::unseeded(&spec.label, read_external(spec)?)))
         .collect()
 }
+
 /// A positive sample count: a number (`2000000`, `2e6`) or one with a `k` or `M` suffix
 /// (`500k`, `2M`).
 pub(crate) fn parse_max_samples(text: &str) -> std::result::Result<f64, String> {
@@ -177,6 +171,7 @@ impl Metric {
         y.is_finite().then_some(y)
     }
 }
+
 /// One run's evaluations.
 #[derive(Debug, Clone)]
 pub struct Run {
@@ -187,6 +182,19 @@ pub struct Run {
     /// (samples, the metric), in order, iterations where the metric is defined only.
     pub points: Vec<(f64, f64)>,
 }
+
+impl Run {
+    /// A run of no seed and no env: an outside curve (or a test's).
+    pub fn unseeded(group: &str, points: Vec<(f64, f64)>) -> Self {
+        Self {
+            group: group.into(),
+            seed: None,
+            env: None,
+            points,
+        }
+    }
+}
+
 /// Every run under `paths` (see the module doc), reading `metric`.
 pub fn discover(paths: &[PathBuf], metric: &Metric) -> Result<Vec<Run>> {
     let mut dirs = Vec::new();
@@ -307,6 +315,7 @@ pub fn each_seed_apart(runs: &mut [Run]) {
         }
     }
 }
+
 /// The value of the piecewise-linear curve through `points` at `x` (inside its range).
 pub(crate) fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
     let i = points.partition_point(|p| p.0 < x);
@@ -329,12 +338,7 @@ mod tests {
     use super::*;
 
     fn run(group: &str, points: &[(f64, f64)]) -> Run {
-        Run {
-            group: group.into(),
-            seed: None,
-            env: None,
-            points: points.to_vec(),
-        }
+        Run::unseeded(group, points.to_vec())
     }
 
     #[test]

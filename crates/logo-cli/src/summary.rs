@@ -280,12 +280,7 @@ mod tests {
     use super::*;
 
     fn run(group: &str, points: &[(f64, f64)]) -> Run {
-        Run {
-            group: group.into(),
-            seed: None,
-            env: None,
-            points: points.to_vec(),
-        }
+        Run::unseeded(group, points.to_vec())
     }
 
     #[test]
