@@ -26,7 +26,8 @@ holds seed*/ runs, and a .csv path is one run):
   points   rows=GROUP;GROUP;...   per seed, the evaluation at each sample count of
            points=S,S,...; then mean ± std at the last
   windows  rows=GROUP;GROUP;...   per group, mean ± std over seeds of each run's mean of a
-           cols=COLUMN:A-B;...    metrics.csv column over iterations A..B (0-based, inclusive)
+           cols=COLUMN:A-B;...    metrics.csv column over iterations A..B (0-based, inclusive);
+                                  a run folder as the row: its bare mean
   verdicts rows=GROUP>CURVE;...   per row, at each column headed by a budget ("2M"), each
            seeds=N window=W       seed's mean of its W evaluations nearest the budget
                                   against an outside curve's (PATH.csv@COLUMN): "ahead"
@@ -386,7 +387,8 @@ def check_table(kind, opts, header, body):
                     if len(values) < b + 1 - a:
                         raise SystemExit(f"{group}: fewer than {b + 1} iterations with {column}")
                     means.append(statistics.fmean(values))
-                compare(r, c, pm(means))
+                # One run has no spread over seeds: its cell is the bare mean.
+                compare(r, c, pm(means) if len(means) > 1 else repr(means[0]))
     elif kind == "evals":
         for r, path in enumerate(opts["runs"].split(";")):
             text = (ROOT / "docs/results" / path / "eval-20.txt").read_text()

@@ -26,6 +26,12 @@ EVALS = """<!-- check evals runs=paper-scale/hopper/hopper/seed1 -->
 | --- | --- | --- | --- |
 | seed 1 | 3118 ± 24 | 1000 | 1.37 |
 """
+# Window means per seed: one run's row is its bare mean, no spread.
+ONE_RUN_WINDOWS = """<!-- check windows rows=paper-scale/halfcheetah/logo-halfcheetah/seed0 cols=eval_action_rms:300-399 -->
+| run | action RMS, 300–399 |
+| --- | --- |
+| seed 0 | 1.55 |
+"""
 
 # Ahead, behind or mixed against the reference curve at equal samples.
 REF = "reference-curves/Hopper_LOGO_ref.csv@rewards/eval_R_avg"
@@ -48,7 +54,7 @@ def check(text):
 
 def main():
     failures = []
-    for good in (GOOD, WINDOWED, EVALS, VERDICTS):
+    for good in (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS):
         code, out = check(good)
         if code != 0:
             failures.append(f"a correct table failed:\n{out}")
@@ -57,6 +63,8 @@ def main():
         "an outside curve's wrong value": WINDOWED.replace("2145 ± 0", "2173 ± 0"),
         "a value where the runs stop short": WINDOWED.replace("| — |", "| 1601 ± 920 |"),
         "an outside curve's wrong column": WINDOWED.replace("@rewards/eval_R_avg", "@KL"),
+        "a wrong window mean of one run": ONE_RUN_WINDOWS.replace("| 1.55 |", "| 1.54 |"),
+        "a spread on one run's window mean": ONE_RUN_WINDOWS.replace("| 1.55 |", "| 1.55 ± 0.1 |"),
         "a wrong 20-episode mean": EVALS.replace("3118 ± 24", "3120 ± 24"),
         "a wrong episode length": EVALS.replace("| 1000 |", "| 999 |"),
         "a wrong verdict": VERDICTS.replace("ahead (1677", "behind (1677"),
@@ -78,7 +86,7 @@ def main():
     if failures:
         print("\n".join(failures))
         return 1
-    print(f"check_results.py: 4 correct tables pass, {len(cases)} wrong ones fail")
+    print(f"check_results.py: 5 correct tables pass, {len(cases)} wrong ones fail")
     return 0
 
 
