@@ -39,7 +39,8 @@ holds seed*/ runs, and a .csv path is one run):
            [quoted=...]
   evals    runs=PATH;PATH;...     one row per run: its eval-20.txt (`logo eval` output),
                                   columns by header: "dense return", "x moved" (mean ±
-                                  std), "action RMS", "length"
+                                  std), "action RMS", "length"; [file=NAME: another
+                                  `logo eval` output in each run folder]
 
 Exit status 1 on any mismatch, listing table, row, column, document and data.
 Usage: scripts/check_results.py [docs/results.md]
@@ -391,7 +392,7 @@ def check_table(kind, opts, header, body):
                 compare(r, c, pm(means) if len(means) > 1 else repr(means[0]))
     elif kind == "evals":
         for r, path in enumerate(opts["runs"].split(";")):
-            text = (ROOT / "docs/results" / path / "eval-20.txt").read_text()
+            text = (ROOT / "docs/results" / path / opts.get("file", "eval-20.txt")).read_text()
             line = next(l for l in text.splitlines() if "dense return" in l)
             fields = {}
             for part in line.split("|"):

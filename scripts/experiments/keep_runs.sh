@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Copies what a study keeps in git from its run folders: each run's metrics.csv,
 # config.toml, checkpoint.safetensors (so the run can be extended with --resume) and
-# eval-20.txt where there is one, under the same layout; figures (*.png, *.csv) and
-# tables (*.md) beside the runs too. Logs, locks and TensorBoard files stay behind.
+# its `logo eval` outputs (eval-*.txt) where there are some, under the same layout;
+# figures (*.png, *.csv) and tables (*.md) beside the runs too. Logs, locks and TensorBoard files stay behind.
 # Usage: keep_runs.sh SRC DST   (e.g. runs/paper-scale docs/results/paper-scale)
 set -euo pipefail
 src="${1:?SRC}"; dst="${2:?DST}"
@@ -11,7 +11,8 @@ find "$src" -name metrics.csv -print0 | while IFS= read -r -d '' metrics; do
   run="$(dirname "$metrics")"
   to="$dst/${run#"$src"/}"
   mkdir -p "$to"
-  for file in metrics.csv config.toml checkpoint.safetensors eval-20.txt; do
+  for file in metrics.csv config.toml checkpoint.safetensors "$run"/eval-*.txt; do
+    file="$(basename "$file")"
     if [ -f "$run/$file" ]; then cp "$run/$file" "$to/$file"; fi
   done
 done

@@ -43,6 +43,10 @@ main() {
       [ -f "$run/checkpoint.safetensors" ] || continue
       "$logo" eval --checkpoint "$run/checkpoint.safetensors" --episodes 20 \
         --env "${curve}-v4" > "$run/eval-20.txt"
+      # The same episodes with each action clipped to the actuator range: the motion is
+      # the same (MuJoCo clamps), the control cost is that of the actions MuJoCo applies.
+      "$logo" eval --checkpoint "$run/checkpoint.safetensors" --episodes 20 \
+        --env "${curve}-v4" --clip-actions > "$run/eval-20-clipped.txt"
     done
     reference="$curves/${curve}_LOGO_ref.csv,samples,rewards/eval_R_avg,reference code"
     # The reference curve runs to 30-50M: draw it to the runs' budget (an iteration is a

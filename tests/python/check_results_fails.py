@@ -25,7 +25,13 @@ EVALS = """<!-- check evals runs=paper-scale/hopper/hopper/seed1 -->
 | run | dense return (20 episodes) | length | action RMS |
 | --- | --- | --- | --- |
 | seed 1 | 3118 ± 24 | 1000 | 1.37 |
+"""# Another `logo eval` output kept beside eval-20.txt (here with --clip-actions).
+CLIPPED = """<!-- check evals runs=paper-scale/halfcheetah/logo-halfcheetah/seed0 file=eval-20-clipped.txt -->
+| run | dense return (20 episodes) | x moved | action RMS |
+| --- | --- | --- | --- |
+| seed 0 | 1467 ± 763 | 92.73 ± 36.54 | 0.80 |
 """
+
 # Window means per seed: one run's row is its bare mean, no spread.
 ONE_RUN_WINDOWS = """<!-- check windows rows=paper-scale/halfcheetah/logo-halfcheetah/seed0 cols=eval_action_rms:300-399 -->
 | run | action RMS, 300–399 |
@@ -54,7 +60,7 @@ def check(text):
 
 def main():
     failures = []
-    for good in (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS):
+    for good in (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED):
         code, out = check(good)
         if code != 0:
             failures.append(f"a correct table failed:\n{out}")
@@ -67,6 +73,8 @@ def main():
         "a spread on one run's window mean": ONE_RUN_WINDOWS.replace("| 1.55 |", "| 1.55 ± 0.1 |"),
         "a wrong 20-episode mean": EVALS.replace("3118 ± 24", "3120 ± 24"),
         "a wrong episode length": EVALS.replace("| 1000 |", "| 999 |"),
+        "the unclipped evaluation's numbers": CLIPPED.replace("1467 ± 763", "537 ± 1931"),
+        "a missing eval file": EVALS.replace("seed1 -->", "seed1 file=eval-20-clipped.txt -->"),
         "a wrong verdict": VERDICTS.replace("ahead (1677", "behind (1677"),
         "a wrong count of seeds above": VERDICTS.replace("2 of 3", "1 of 3"),
         "a wrong mean beside a verdict": VERDICTS.replace("2518 vs", "2600 vs"),
@@ -86,7 +94,7 @@ def main():
     if failures:
         print("\n".join(failures))
         return 1
-    print(f"check_results.py: 5 correct tables pass, {len(cases)} wrong ones fail")
+    print(f"check_results.py: 6 correct tables pass, {len(cases)} wrong ones fail")
     return 0
 
 

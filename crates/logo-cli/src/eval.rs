@@ -41,6 +41,13 @@ pub struct EvalArgs {
     /// for speed.
     #[arg(long, value_name = "METRES")]
     split_at: Option<f64>,
+    /// Clip each action to the env's actuator range before the env sees it. MuJoCo
+    /// clamps actions to that range anyway, so the motion is the same, but the dense
+    /// locomotion rewards charge their control cost on the action as given: this
+    /// separates what a policy does from what its out-of-range actions cost. Training and
+    /// the per-iteration evaluation do not clip (neither does the reference code).
+    #[arg(long)]
+    clip_actions: bool,
     /// The engine the policy is loaded onto (any engine or float type loads any
     /// checkpoint); episodes act with its host copy, as training does. Default: the one
     /// the checkpoint last trained on where that is a CPU one, else the kernels in
@@ -110,10 +117,11 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         Some(id) => vec![id.clone()],
         None => vec![dense_id.clone(), format!("Sparse{dense_id}")],
     };
-    let acts = if args.sample {
-        "sampled actions"
-    } else {
-        "mean action"
+    let acts = match (args.sample, args.clip_actions) {
+        (true, false) => "sampled actions",
+        (true, true) => "sampled actions clipped to the actuator range",
+        (false, false) => "mean action",
+        (false, true) => "mean action clipped to the actuator range",
     };
     println!(
         "{} ({} iteration {}, seed {}; trained on {}): {acts} on {engine}, {} episodes",
@@ -151,11 +159,15 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         };
         let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
         let mut act = |obs: &[f64]| {
-            if args.sample {
+            let mut action = if args.sample {
                 acting.sample(obs, &mut rng)
             } else {
                 acting.mean(obs)
+            };
+            if args.clip_actions {
+                clip_to_range(&mut action, &spec.action_low, &spec.action_high);
             }
+            action
         };
         let mut episodes = Vec::new();
         let mut splits = Vec::new();
@@ -191,6 +203,13 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `--clip-actions`: each component into `[low, high]`.
+fn clip_to_range(action: &mut [f64], low: &[f64], high: &[f64]) {
+    for ((a, &lo), &hi) in action.iter_mut().zip(low).zip(high) {
+        *a = a.clamp(lo, hi);
+    }
 }
 
 /// Where an episode first moved `metres` forward (`--split-at`).
@@ -301,6 +320,36 @@ mod tests {
             "{episode:?}, expected dense {expected}"
         );
         assert!(episode.dense_return < 0.0, "{episode:?}");
+    }
+
+    /// `--clip-actions` on HalfCheetah (±1): a constant action of 2, clipped, plays the
+    /// same episode as a constant 1; unclipped, MuJoCo clamps it to 1 too, so the cheetah
+    /// moves exactly as far, but the dense return is charged 0.1 × 6 × (4 − 1) = 1.8 more
+    /// per step.
+    #[test]
+    fn clipped_actions_move_the_same_and_cost_less() {
+        let mut env = EnvFactory::new("HalfCheetah-v4", &EnvOptions::default())
+            .unwrap()
+            .build();
+        let spec = env.spec().clone();
+        let clipped = run_episode(env.as_mut(), 0, |_| {
+            let mut action = vec![2.0; 6];
+            clip_to_range(&mut action, &spec.action_low, &spec.action_high);
+            action
+        })
+        .unwrap();
+        let one = run_episode(env.as_mut(), 0, |_| vec![1.0; 6]).unwrap();
+        let unclipped = run_episode(env.as_mut(), 0, |_| vec![2.0; 6]).unwrap();
+        assert_eq!(clipped, one);
+        assert_eq!(clipped.moved, unclipped.moved);
+        let saved = clipped.dense_return - unclipped.dense_return;
+        assert!(
+            (saved - 1.8 * 1000.0).abs() < 1e-6,
+            "{clipped:?} {unclipped:?}"
+        );
+        let mut mixed = vec![-3.0, -0.5, 0.5, 3.0];
+        clip_to_range(&mut mixed, &[-1.0; 4], &[1.0, 1.0, 0.25, 2.0]);
+        assert_eq!(mixed, vec![-1.0, -0.5, 0.25, 2.0]);
     }
 
     /// An episode moving 0.5 m a step for 4 steps, then 0.25 m a step for 4 more, cut at
