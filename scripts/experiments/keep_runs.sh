@@ -2,7 +2,8 @@
 # Copies what a study keeps in git from its run folders: each run's metrics.csv,
 # config.toml, checkpoint.safetensors (so the run can be extended with --resume) and
 # its `logo eval` outputs (eval-*.txt) where there are some, under the same layout;
-# figures (*.png, *.csv) and tables (*.md) beside the runs too. Logs, locks and TensorBoard files stay behind.
+# figures (*.png, *.csv) and tables (*.md) beside the runs too. Logs, locks and
+# TensorBoard files stay behind.
 # Usage: keep_runs.sh SRC DST   (e.g. runs/paper-scale docs/results/paper-scale)
 set -euo pipefail
 src="${1:?SRC}"; dst="${2:?DST}"

@@ -25,7 +25,9 @@ EVALS = """<!-- check evals runs=paper-scale/hopper/hopper/seed1 -->
 | run | dense return (20 episodes) | length | action RMS |
 | --- | --- | --- | --- |
 | seed 1 | 3118 ± 24 | 1000 | 1.37 |
-"""# Another `logo eval` output kept beside eval-20.txt (here with --clip-actions).
+"""
+
+# Another `logo eval` output kept beside eval-20.txt (here with --clip-actions).
 CLIPPED = """<!-- check evals runs=paper-scale/halfcheetah/logo-halfcheetah/seed0 file=eval-20-clipped.txt -->
 | run | dense return (20 episodes) | x moved | action RMS |
 | --- | --- | --- | --- |

@@ -117,12 +117,19 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         Some(id) => vec![id.clone()],
         None => vec![dense_id.clone(), format!("Sparse{dense_id}")],
     };
-    let acts = match (args.sample, args.clip_actions) {
-        (true, false) => "sampled actions",
-        (true, true) => "sampled actions clipped to the actuator range",
-        (false, false) => "mean action",
-        (false, true) => "mean action clipped to the actuator range",
-    };
+    let acts = format!(
+        "{}{}",
+        if args.sample {
+            "sampled actions"
+        } else {
+            "mean action"
+        },
+        if args.clip_actions {
+            " clipped to the actuator range"
+        } else {
+            ""
+        }
+    );
     println!(
         "{} ({} iteration {}, seed {}; trained on {}): {acts} on {engine}, {} episodes",
         args.checkpoint.display(),
