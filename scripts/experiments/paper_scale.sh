@@ -4,7 +4,11 @@
 # 10M; 1500: 30M), beside the reference code's own learning curve of each env. Resumable:
 # run it again (with a larger ITERATIONS to extend) and every run continues from its
 # checkpoint. ENGINE_ARGS (e.g. "--dtype f32") go to every `logo train`.
-# Usage: paper_scale.sh [OUT] [JOBS] [ITERATIONS] [ENGINE_ARGS...]
+# Item 4, LOGO alone toward 30M in a folder of its own, so that the 10M runs, their
+# checkpoints and evaluations stay as the 10M tables cite them: CONFIGS=logo runs LOGO
+# only, and FROM=DIR first copies into OUT the LOGO runs of DIR that OUT lacks, e.g.
+#   FROM=docs/results/paper-scale CONFIGS=logo paper_scale.sh runs/paper-scale-30m 2 1500
+# Usage: [CONFIGS=logo] [FROM=DIR] paper_scale.sh [OUT] [JOBS] [ITERATIONS] [ENGINE_ARGS...]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 
@@ -13,14 +17,30 @@ main() {
   shift $(( $# < 3 ? $# : 3 ))
   local logo="${LOGO:-./target/release/logo}" curves=docs/results/reference-curves
   mkdir -p "$out"
+  local configs="${CONFIGS:-logo logo-ppo-cdq}" from="${FROM:-}"
+  case "$configs" in
+    logo | "logo logo-ppo-cdq") ;;
+    *) echo "paper_scale.sh: CONFIGS must be \"logo\" or \"logo logo-ppo-cdq\"" >&2; return 2 ;;
+  esac
   local env variant curve reference run failed=0
   for env in hopper walker2d halfcheetah; do
+    # A sweep names a run folder after its config's stem, `<parent>-<stem>` where two
+    # stems collide: the LOGO runs are `logo-<env>` beside LOGO+PPO+CDQ, `<env>` alone.
+    if [ -n "$from" ] && [ ! -d "$out/$env/$env" ]; then
+      run="$from/$env/logo-$env"
+      [ -d "$run" ] || run="$from/$env/$env"
+      [ -d "$run" ] || { echo "paper_scale.sh: $from/$env has no LOGO runs" >&2; return 2; }
+      mkdir -p "$out/$env"
+      cp -r "$run" "$out/$env/$env"
+      rm -f "$out/$env/$env"/seed*/eval-*.txt # evaluations of the old checkpoints
+    fi
     # Twin-min critics need the rewardless improvement step skipped on Hopper (issue 13).
     variant="configs/logo-ppo-cdq/$env.toml"
     [ "$env" = hopper ] && variant=configs/experiments/hopper_ppo_cdq_skip_rewardless.toml
-    "$logo" sweep "configs/logo/$env.toml" "$variant" --seeds 0..3 --jobs "$jobs" \
+    [ "$configs" = logo ] && variant=
+    "$logo" sweep "configs/logo/$env.toml" ${variant:+"$variant"} --seeds 0..3 --jobs "$jobs" \
       --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" "$@" || failed=1
-    if [ "$env" = halfcheetah ]; then
+    if [ "$env" = halfcheetah ] && [ -n "$variant" ]; then
       # The fall study's like-for-like arm (the reference code's F·v), extended from its
       # committed 2M checkpoints in float64, as it trained: does it fall after its peak
       # as the reference rerun did, or rise as the reference's own curve does?
