@@ -242,15 +242,20 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
     let guided = trainer.config.guidance.is_some();
     let mut best = (f64::NEG_INFINITY, 0);
     let mut last = None;
+    // The speed is this invocation's: a resumed run's wall_s also holds earlier
+    // invocations' time, perhaps under another load or on another machine.
+    let started = std::time::Instant::now();
+    let mut made = 0usize;
     while !trainer.done() {
         let m = trainer.step().map_err(|e| anyhow::anyhow!("{e}"))?;
+        made += 1;
         if video_every.is_some_and(|n| (m.iteration + 1).is_multiple_of(n)) {
             record_iteration(&trainer, &out, m.iteration + 1)?;
         }
         if m.eval_dense_return > best.0 {
             best = (m.eval_dense_return, m.iteration);
         }
-        let per_iter = m.wall_s / (m.iteration + 1) as f64;
+        let per_iter = started.elapsed().as_secs_f64() / made as f64;
         println!(
             "[{:>4}/{total}] samples {:>9} | sparse {:>9.2} | eval dense {:>9.2} | kl {:.4}{} | {:.2} s/it, ETA {:.0} s",
             m.iteration + 1,

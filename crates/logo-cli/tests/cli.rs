@@ -363,10 +363,35 @@ fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
     let run_dir = dir.join("run");
     let run = dir.join("run").to_str().unwrap().to_string();
     succeed(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
+    // As if the first two iterations had taken a week: the resumed run's speed and ETA
+    // must come from its own iterations, not from that.
+    let metrics = run_dir.join("metrics.csv");
+    let csv = std::fs::read_to_string(&metrics).unwrap();
+    let mut lines = csv.lines();
+    let header = lines.next().unwrap();
+    let wall = header.split(',').position(|c| c == "wall_s").unwrap();
+    let mut slow = vec![header.to_string()];
+    for line in lines {
+        let mut cells: Vec<&str> = line.split(',').collect();
+        cells[wall] = "604800";
+        slow.push(cells.join(","));
+    }
+    std::fs::write(&metrics, slow.join("\n") + "\n").unwrap();
     let stdout = succeed(&["train", "--resume", &run, "--iterations", "3"]);
+    let progress = stdout
+        .lines()
+        .find(|l| l.starts_with("[   3/3]"))
+        .unwrap_or_else(|| panic!("no progress line for iteration 3: {stdout}"));
+    assert!(stdout.contains("resuming"), "{stdout}");
+    let per_iter: f64 = progress
+        .split(" s/it")
+        .next()
+        .and_then(|head| head.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no s/it in {progress}"));
     assert!(
-        stdout.contains("resuming") && stdout.contains("[   3/3]"),
-        "{stdout}"
+        per_iter < 600.0,
+        "s/it counts earlier invocations: {progress}"
     );
     let csv = std::fs::read_to_string(run_dir.join("metrics.csv")).unwrap();
     assert_eq!(csv.lines().count(), 4, "{csv}");
