@@ -16,12 +16,17 @@ main() {
   local out="${1:-runs/paper-scale}" jobs="${2:-2}" iterations="${3:-500}"
   shift $(( $# < 3 ? $# : 3 ))
   local logo="${LOGO:-./target/release/logo}" curves=docs/results/reference-curves
-  mkdir -p "$out"
   local configs="${CONFIGS:-logo logo-ppo-cdq}" from="${FROM:-}"
   case "$configs" in
     logo | "logo logo-ppo-cdq") ;;
     *) echo "paper_scale.sh: CONFIGS must be \"logo\" or \"logo logo-ppo-cdq\"" >&2; return 2 ;;
   esac
+  # The copies are named as a LOGO-only sweep names its runs (below); beside
+  # LOGO+PPO+CDQ the sweep would not find them and would start LOGO over.
+  if [ -n "$from" ] && [ "$configs" != logo ]; then
+    echo "paper_scale.sh: FROM=$from needs CONFIGS=logo" >&2; return 2
+  fi
+  mkdir -p "$out"
   local env variant curve reference run failed=0
   for env in hopper walker2d halfcheetah; do
     # A sweep names a run folder after its config's stem, `<parent>-<stem>` where two
