@@ -18,7 +18,7 @@ use plotters::prelude::*;
 
 use crate::runs::{
     EVAL_RETURN, ExternalSpec, Metric, Run, discover, each_seed_apart, interpolate, parse_external,
-    parse_max_samples, read_external, up_to,
+    parse_label, parse_max_samples, read_external, relabel, up_to,
 };
 
 #[derive(Args)]
@@ -65,6 +65,10 @@ pub struct PlotArgs {
     /// skipped; --smooth and --max-samples apply to it too. Repeatable.
     #[arg(long = "external", value_parser = parse_external)]
     externals: Vec<ExternalSpec>,
+    /// A configuration's name in the legend, FOLDER=NAME (e.g. hopper=LOGO: a sweep
+    /// names a configuration after its config file). Repeatable.
+    #[arg(long = "label", value_parser = parse_label)]
+    labels: Vec<(String, String)>,
 }
 
 /// `--external` curves as single-seed [`Curve`]s at their own samples.
@@ -202,6 +206,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         log10: args.log10,
     };
     let mut runs = discover(&args.runs, &metric)?;
+    relabel(&mut runs, &args.labels)?;
     if args.each_seed {
         each_seed_apart(&mut runs);
     }

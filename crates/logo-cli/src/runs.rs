@@ -307,6 +307,46 @@ fn group_of(folder: &str, parent: Option<String>) -> (String, Option<u64>) {
     }
 }
 
+/// `--label FOLDER=NAME`: one configuration's name in a legend or table.
+pub(crate) fn parse_label(text: &str) -> std::result::Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((from, to)) if !from.trim().is_empty() && !to.trim().is_empty() => {
+            Ok((from.trim().to_string(), to.trim().to_string()))
+        }
+        _ => Err(format!("{text:?}: expected FOLDER=NAME (e.g. hopper=LOGO)")),
+    }
+}
+
+/// Renames configurations (`--label`). A sweep names a configuration after its config
+/// file's stem (`hopper` for LOGO's), which says little in a figure. A name that is no
+/// configuration's, or a new name that another configuration already has (their seeds
+/// would be averaged together), is an error.
+pub fn relabel(runs: &mut [Run], labels: &[(String, String)]) -> Result<()> {
+    let groups: Vec<String> = {
+        let mut g: Vec<String> = runs.iter().map(|r| r.group.clone()).collect();
+        g.sort();
+        g.dedup();
+        g
+    };
+    for (from, to) in labels {
+        ensure!(
+            groups.contains(from),
+            "--label {from}={to}: no configuration is named {from:?} (they are {})",
+            groups.join(", ")
+        );
+        ensure!(
+            from == to || !groups.contains(to),
+            "--label {from}={to}: {to:?} is already another configuration's name"
+        );
+    }
+    for run in runs {
+        if let Some((_, to)) = labels.iter().find(|(from, _)| *from == run.group) {
+            run.group.clone_from(to);
+        }
+    }
+    Ok(())
+}
+
 /// `--each-seed`: every run with a seed becomes a group of its own, "<group> seed N".
 pub fn each_seed_apart(runs: &mut [Run]) {
     for run in runs {
@@ -359,6 +399,35 @@ mod tests {
         assert_eq!(parse_max_samples("500k"), Ok(5e5));
         for bad in ["", "M", "-1M", "0", "2G", "nan", "twoM"] {
             assert!(parse_max_samples(bad).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn labels_rename_a_configuration_and_refuse_unknown_or_clashing_names() {
+        let mut runs = [
+            run("hopper", &[(0.0, 1.0)]),
+            run("hopper", &[(0.0, 2.0)]),
+            run("hopper_ppo_cdq", &[(0.0, 3.0)]),
+        ];
+        let label = |t: &str| parse_label(t).unwrap();
+        relabel(&mut runs, &[label("hopper=LOGO")]).unwrap();
+        let groups: Vec<&str> = runs.iter().map(|r| r.group.as_str()).collect();
+        assert_eq!(groups, ["LOGO", "LOGO", "hopper_ppo_cdq"]);
+        let e = relabel(&mut runs, &[label("walker2d=LOGO")])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("walker2d") && e.contains("LOGO, hopper_ppo_cdq"),
+            "{e}"
+        );
+        let e = relabel(&mut runs, &[label("hopper_ppo_cdq=LOGO")])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("already"), "{e}");
+        assert_eq!(runs[2].group, "hopper_ppo_cdq", "an error renames nothing");
+        assert_eq!(label(" a = b c "), ("a".into(), "b c".into()));
+        for bad in ["", "hopper", "=LOGO", "hopper="] {
+            assert!(parse_label(bad).is_err(), "{bad:?}");
         }
     }
 

@@ -14,7 +14,7 @@ use clap::Args;
 
 use crate::runs::{
     ExternalSpec, Metric, Run, discover, each_seed_apart, external_runs, interpolate,
-    parse_external, parse_max_samples, up_to,
+    parse_external, parse_label, parse_max_samples, relabel, up_to,
 };
 
 #[derive(Args)]
@@ -47,6 +47,10 @@ pub struct SummaryArgs {
     /// as `logo plot --external`. Repeatable.
     #[arg(long = "external", value_parser = parse_external)]
     externals: Vec<ExternalSpec>,
+    /// A configuration's name in the table, FOLDER=NAME (e.g. hopper=LOGO: a sweep
+    /// names a configuration after its config file). Repeatable.
+    #[arg(long = "label", value_parser = parse_label)]
+    labels: Vec<(String, String)>,
 }
 
 /// How a `--at` column reads a run.
@@ -253,6 +257,7 @@ pub fn table(runs: &[Run], at: &[f64], rule: AtRule, threshold: Option<f64>) -> 
 
 pub fn run(args: &SummaryArgs) -> Result<()> {
     let mut runs = discover(&args.runs, &Metric::eval_return())?;
+    relabel(&mut runs, &args.labels)?;
     if args.each_seed {
         each_seed_apart(&mut runs);
     }

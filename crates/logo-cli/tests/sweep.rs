@@ -120,6 +120,8 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
         "--paper-lines",
         "--external",
         &external,
+        "--label",
+        "a=config A",
     ]);
     assert!(
         plot.status.success(),
@@ -136,6 +138,8 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
         .map(|l| l.split(',').map(String::from).collect())
         .collect();
     assert_eq!(data.len(), 6, "{csv}");
+    let names: Vec<&str> = data.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(names[..4], ["b", "b", "config A", "config A"], "{csv}");
     let external_rows = data.split_off(4);
     assert_eq!(
         external_rows,
@@ -176,8 +180,22 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
     let bad = summary(&external, "2G");
     let text = String::from_utf8_lossy(&bad.stderr);
     assert!(!bad.status.success() && text.contains("2G"), "{text}");
-    // --each-seed: one row per seed of config b, each its own one-seed configuration.
-    let apart = logo(&["summary", out.join("b").to_str().unwrap(), "--each-seed"]);
+    // --each-seed: one row per seed of config b, each its own one-seed configuration,
+    // under the name --label gives it; a --label naming no configuration is refused.
+    let b_runs = out.join("b");
+    let unknown = logo(&["summary", b_runs.to_str().unwrap(), "--label", "c=LOGO"]);
+    let text = String::from_utf8_lossy(&unknown.stderr);
+    assert!(
+        !unknown.status.success() && text.contains("\"c\""),
+        "{text}"
+    );
+    let apart = logo(&[
+        "summary",
+        b_runs.to_str().unwrap(),
+        "--each-seed",
+        "--label",
+        "b=LOGO",
+    ]);
     let text = String::from_utf8_lossy(&apart.stdout);
     let labels: Vec<&str> = text
         .lines()
@@ -185,7 +203,7 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
         .filter_map(|l| l.strip_prefix("| ")?.split(" |").next())
         .collect();
     assert!(apart.status.success(), "{text}");
-    assert_eq!(labels, ["b seed 0", "b seed 1"], "{text}");
+    assert_eq!(labels, ["LOGO seed 0", "LOGO seed 1"], "{text}");
     assert!(
         text.lines().skip(2).all(|l| l.contains(" | 1 | ")),
         "{text}"
