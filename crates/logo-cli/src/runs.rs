@@ -6,6 +6,7 @@
 //! by `<name>`, any other run on its own. Outside curves (`--external`: a published or
 //! reference run, from any CSV) read as single-seed runs.
 
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail, ensure};
@@ -319,30 +320,39 @@ pub(crate) fn parse_label(text: &str) -> std::result::Result<(String, String), S
 
 /// Renames configurations (`--label`). A sweep names a configuration after its config
 /// file's stem (`hopper` for LOGO's), which says little in a figure. A name that is no
-/// configuration's, or a new name that another configuration already has (their seeds
-/// would be averaged together), is an error.
+/// configuration's, one given two labels, or labels that leave two configurations with
+/// one name (their seeds would be averaged together) are errors.
 pub fn relabel(runs: &mut [Run], labels: &[(String, String)]) -> Result<()> {
-    let groups: Vec<String> = {
-        let mut g: Vec<String> = runs.iter().map(|r| r.group.clone()).collect();
-        g.sort();
-        g.dedup();
-        g
-    };
-    for (from, to) in labels {
+    let groups: BTreeSet<&str> = runs.iter().map(|r| r.group.as_str()).collect();
+    for (i, (from, to)) in labels.iter().enumerate() {
         ensure!(
-            groups.contains(from),
+            groups.contains(from.as_str()),
             "--label {from}={to}: no configuration is named {from:?} (they are {})",
-            groups.join(", ")
+            groups.iter().copied().collect::<Vec<_>>().join(", ")
         );
         ensure!(
-            from == to || !groups.contains(to),
-            "--label {from}={to}: {to:?} is already another configuration's name"
+            labels[..i].iter().all(|(earlier, _)| earlier != from),
+            "--label {from}={to}: {from:?} is given two labels"
         );
     }
-    for run in runs {
-        if let Some((_, to)) = labels.iter().find(|(from, _)| *from == run.group) {
-            run.group.clone_from(to);
+    let name_of = |group: &str| -> String {
+        labels
+            .iter()
+            .find(|(from, _)| from == group)
+            .map_or(group, |(_, to)| to.as_str())
+            .to_string()
+    };
+    let mut named: BTreeMap<String, &str> = BTreeMap::new();
+    for group in &groups {
+        if let Some(other) = named.insert(name_of(group), group) {
+            bail!(
+                "--label: {group:?} would be named {:?}, which {other:?} already is (their seeds would be averaged together)",
+                name_of(group)
+            );
         }
+    }
+    for run in runs {
+        run.group = name_of(&run.group);
     }
     Ok(())
 }
@@ -425,6 +435,23 @@ mod tests {
             .to_string();
         assert!(e.contains("already"), "{e}");
         assert_eq!(runs[2].group, "hopper_ppo_cdq", "an error renames nothing");
+        // Two labels onto one new name would merge seeds too; one name, two labels is
+        // ambiguous; a swap merges nothing.
+        let e = relabel(&mut runs, &[label("LOGO=X"), label("hopper_ppo_cdq=X")])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("\"X\"") && e.contains("already"), "{e}");
+        let e = relabel(&mut runs, &[label("LOGO=X"), label("LOGO=Y")])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("two labels"), "{e}");
+        relabel(
+            &mut runs,
+            &[label("LOGO=hopper_ppo_cdq"), label("hopper_ppo_cdq=LOGO")],
+        )
+        .unwrap();
+        let groups: Vec<&str> = runs.iter().map(|r| r.group.as_str()).collect();
+        assert_eq!(groups, ["hopper_ppo_cdq", "hopper_ppo_cdq", "LOGO"]);
         assert_eq!(label(" a = b c "), ("a".into(), "b c".into()));
         for bad in ["", "hopper", "=LOGO", "hopper="] {
             assert!(parse_label(bad).is_err(), "{bad:?}");
