@@ -324,24 +324,19 @@ pub(crate) fn parse_label(text: &str) -> std::result::Result<(String, String), S
 /// one name (their seeds would be averaged together) are errors.
 pub fn relabel(runs: &mut [Run], labels: &[(String, String)]) -> Result<()> {
     let groups: BTreeSet<&str> = runs.iter().map(|r| r.group.as_str()).collect();
-    for (i, (from, to)) in labels.iter().enumerate() {
+    let mut renamed: BTreeMap<&str, &str> = BTreeMap::new();
+    for (from, to) in labels {
         ensure!(
             groups.contains(from.as_str()),
             "--label {from}={to}: no configuration is named {from:?} (they are {})",
             groups.iter().copied().collect::<Vec<_>>().join(", ")
         );
         ensure!(
-            labels[..i].iter().all(|(earlier, _)| earlier != from),
+            renamed.insert(from, to).is_none(),
             "--label {from}={to}: {from:?} is given two labels"
         );
     }
-    let name_of = |group: &str| -> String {
-        labels
-            .iter()
-            .find(|(from, _)| from == group)
-            .map_or(group, |(_, to)| to.as_str())
-            .to_string()
-    };
+    let name_of = |group: &str| renamed.get(group).copied().unwrap_or(group).to_string();
     let mut named: BTreeMap<String, &str> = BTreeMap::new();
     for group in &groups {
         if let Some(other) = named.insert(name_of(group), group) {
