@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The test command: set up (idempotent), check the Gymnasium oracle has not drifted from
-# the committed parity fixtures, then run every Rust test in release mode (MuJoCo and
-# burn are too slow unoptimised, and the main job shares this build).
+# The test command: set up (idempotent), check formatting and clippy's lints, check the
+# Gymnasium and rliable oracles have not drifted from the committed fixtures, then run
+# every Rust test in release mode (MuJoCo and burn are too slow unoptimised, and the
+# main job shares this build).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -18,8 +19,15 @@ if [ "${CI:-}" = true ]; then
 fi
 export LD_LIBRARY_PATH="$root/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 
+echo "== cargo fmt --check and cargo clippy --all-targets -- -D warnings"
+cargo fmt --all --check
+cargo clippy --all-targets -- -D warnings
+
 echo "== parity fixtures vs the Gymnasium 1.4.0 oracle"
 .venv/bin/python -W ignore tests/parity/generate.py --check tests/parity/fixtures
+
+echo "== the statistics' fixture vs the rliable package (crates/logo-stats/tests/rliable.rs)"
+.venv/bin/python tests/stats/rliable_reference.py --check tests/stats/rliable.json
 
 echo "== the tables of docs/results.md vs the metrics in docs/results/"
 .venv/bin/python scripts/check_results.py

@@ -100,11 +100,3 @@ pub fn evaluate(
         action_rms: mean(|e| e.action_rms),
     })
 }
-
-/// Mean and population standard deviation.
-pub fn mean_std(x: &[f64]) -> (f64, f64) {
-    let n = x.len().max(1) as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    let var = x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n;
-    (mean, var.sqrt())
-}

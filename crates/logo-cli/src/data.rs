@@ -13,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
 use crate::eval::load_policy;
-use logo_algo::episode::mean_std;
+use logo_stats::mean_std;
 
 #[derive(Subcommand)]
 pub enum DataCommand {

@@ -15,7 +15,8 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::engine::{EngineArgs, WithEngine};
 use crate::video::{Video, VideoArgs};
-use logo_algo::episode::{Episode, mean_std, run_episode_with};
+use logo_algo::episode::{Episode, run_episode_with};
+use logo_stats::mean_std;
 
 #[derive(Args)]
 pub struct EvalArgs {

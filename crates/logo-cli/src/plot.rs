@@ -1,5 +1,7 @@
 //! `logo plot RUN_DIRS… --out FIG.png|FIG.svg`: dense evaluation return against samples,
-//! one line per configuration with a mean ± std band over its seeds, as the LOGO paper's
+//! one line per configuration (the mean over its seeds, or with `--stat iqm` their
+//! interquartile mean) in a shaded band: by default the line's 95% stratified-bootstrap
+//! interval over seeds (logo-stats), with `--band std` mean ± std as the LOGO paper's
 //! Figure 1 and the seed paper's Figures 2-3 draw them. The numbers drawn are written
 //! beside the figure as CSV (`FIG.csv`). `--metric` draws any other numeric column of
 //! `metrics.csv` the same way (mean log σ, step sizes, guidance KL, critic losses), and
@@ -13,7 +15,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail, ensure};
-use clap::Args;
+use clap::{Args, ValueEnum};
+use logo_stats::{Aggregate, Bootstrap, mean_std};
 use plotters::prelude::*;
 
 use crate::runs::{
@@ -69,6 +72,60 @@ pub struct PlotArgs {
     /// names a configuration after its config file). Repeatable.
     #[arg(long = "label", value_parser = parse_label)]
     labels: Vec<(String, String)>,
+    /// The line: the mean over a configuration's seeds, or their interquartile mean.
+    #[arg(long, value_enum, default_value_t = Stat::Mean)]
+    stat: Stat,
+    /// The band: the line's 95% stratified-bootstrap interval over seeds, or (with the
+    /// mean) mean ± std.
+    #[arg(long, value_enum, default_value_t = BandKind::Ci)]
+    band: BandKind,
+    /// Resamples for each point's interval (--band ci).
+    #[arg(long, default_value_t = 2_000)]
+    reps: usize,
+}
+
+/// The line drawn for a configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Stat {
+    Mean,
+    Iqm,
+}
+
+/// The band shaded around it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BandKind {
+    /// The line's 95% stratified-bootstrap interval over seeds.
+    Ci,
+    /// Mean ± sample standard deviation.
+    Std,
+}
+
+/// How each grid point's seeds become a line and a band.
+#[derive(Debug, Clone, Copy)]
+pub struct Band {
+    pub stat: Stat,
+    pub kind: BandKind,
+    pub bootstrap: Bootstrap,
+}
+
+impl Band {
+    /// (line, low, high) of one grid point's values over seeds.
+    fn of(&self, ys: &[f64]) -> (f64, f64, f64) {
+        let aggregate = match self.stat {
+            Stat::Mean => Aggregate::Mean,
+            Stat::Iqm => Aggregate::Iqm,
+        };
+        match self.kind {
+            BandKind::Std => {
+                let (m, s) = mean_std(ys);
+                (m, m - s, m + s)
+            }
+            BandKind::Ci => {
+                let e = self.bootstrap.aggregate(ys, aggregate);
+                (e.point, e.lo, e.hi)
+            }
+        }
+    }
 }
 
 /// `--external` curves as single-seed [`Curve`]s at their own samples.
@@ -94,6 +151,9 @@ fn external_curves(
                 group: spec.label.clone(),
                 samples: points.iter().map(|p| p.0).collect(),
                 std: vec![0.0; mean.len()],
+                line: mean.clone(),
+                lo: mean.clone(),
+                hi: mean.clone(),
                 mean,
                 seeds: 1,
             })
@@ -122,6 +182,10 @@ pub struct Curve {
     pub samples: Vec<f64>,
     pub mean: Vec<f64>,
     pub std: Vec<f64>,
+    /// What is drawn: the line (mean or IQM) and its band.
+    pub line: Vec<f64>,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
     pub seeds: usize,
 }
 
@@ -136,9 +200,10 @@ fn smooth(values: &[f64], window: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Each group's mean ± std (sample standard deviation; 0 for one seed) on `points`
-/// sample counts spread over the range all its runs cover.
-pub fn curves(runs: &[Run], window: usize, points: usize) -> Result<Vec<Curve>> {
+/// Each group's mean ± std (sample standard deviation; 0 for one seed), and its line and
+/// band as `band` says, on `points` sample counts spread over the range all its runs
+/// cover.
+pub fn curves(runs: &[Run], window: usize, points: usize, band: &Band) -> Result<Vec<Curve>> {
     ensure!(points >= 2, "--points must be at least 2");
     ensure!(window >= 1, "--smooth must be at least 1");
     let mut groups: BTreeMap<&str, Vec<Vec<(f64, f64)>>> = BTreeMap::new();
@@ -160,26 +225,28 @@ pub fn curves(runs: &[Run], window: usize, points: usize) -> Result<Vec<Curve>> 
         let samples: Vec<f64> = (0..points)
             .map(|k| start + (end - start) * k as f64 / (points - 1) as f64)
             .collect();
-        let n = members.len() as f64;
-        let (mut mean, mut std) = (Vec::new(), Vec::new());
+        let mut curve = Curve {
+            group: group.to_string(),
+            samples: Vec::new(),
+            mean: Vec::new(),
+            std: Vec::new(),
+            line: Vec::new(),
+            lo: Vec::new(),
+            hi: Vec::new(),
+            seeds: members.len(),
+        };
         for &x in &samples {
             let ys: Vec<f64> = members.iter().map(|c| interpolate(c, x)).collect();
-            let m = ys.iter().sum::<f64>() / n;
-            let var = if members.len() > 1 {
-                ys.iter().map(|y| (y - m) * (y - m)).sum::<f64>() / (n - 1.0)
-            } else {
-                0.0
-            };
-            mean.push(m);
-            std.push(var.sqrt());
+            let (m, s) = mean_std(&ys);
+            let (line, lo, hi) = band.of(&ys);
+            curve.mean.push(m);
+            curve.std.push(s);
+            curve.line.push(line);
+            curve.lo.push(lo);
+            curve.hi.push(hi);
         }
-        out.push(Curve {
-            group: group.to_string(),
-            samples,
-            mean,
-            std,
-            seeds: members.len(),
-        });
+        curve.samples = samples;
+        out.push(curve);
     }
     Ok(out)
 }
@@ -213,7 +280,17 @@ pub fn run(args: &PlotArgs) -> Result<()> {
     if let Some(max_samples) = args.max_samples {
         up_to(&mut runs, max_samples)?;
     }
-    let curves = curves(&runs, args.smooth, args.points)?;
+    ensure!(
+        !(args.stat == Stat::Iqm && args.band == BandKind::Std),
+        "--stat iqm goes with --band ci: a std band is drawn around the mean"
+    );
+    ensure!(args.reps >= 1, "--reps must be at least 1");
+    let band = Band {
+        stat: args.stat,
+        kind: args.band,
+        bootstrap: Bootstrap::with_reps(args.reps),
+    };
+    let curves = curves(&runs, args.smooth, args.points, &band)?;
     let mut envs: Vec<&str> = runs.iter().filter_map(|r| r.env.as_deref()).collect();
     envs.sort_unstable();
     envs.dedup();
@@ -287,7 +364,9 @@ pub fn run(args: &PlotArgs) -> Result<()> {
 
 fn write_csv<'a>(path: &Path, curves: impl IntoIterator<Item = &'a Curve>) -> Result<()> {
     let mut w = csv::Writer::from_path(path).with_context(|| format!("{}", path.display()))?;
-    w.write_record(["config", "samples", "mean", "std", "seeds"])?;
+    w.write_record([
+        "config", "samples", "mean", "std", "seeds", "line", "band_lo", "band_hi",
+    ])?;
     for c in curves {
         for k in 0..c.samples.len() {
             w.write_record([
@@ -296,6 +375,9 @@ fn write_csv<'a>(path: &Path, curves: impl IntoIterator<Item = &'a Curve>) -> Re
                 format!("{}", c.mean[k]),
                 format!("{}", c.std[k]),
                 c.seeds.to_string(),
+                format!("{}", c.line[k]),
+                format!("{}", c.lo[k]),
+                format!("{}", c.hi[k]),
             ])?;
         }
     }
@@ -334,7 +416,7 @@ where
     let ys = curves
         .iter()
         .chain(externals)
-        .flat_map(|c| c.mean.iter().zip(&c.std).flat_map(|(m, s)| [m - s, m + s]))
+        .flat_map(|c| c.lo.iter().chain(&c.hi).copied())
         .chain(hlines.iter().map(|h| h.1));
     let (y_min, y_max) = ys.fold((f64::MAX, f64::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
     let pad = if y_max > y_min {
@@ -365,15 +447,9 @@ where
         let band: Vec<(f64, f64)> = c
             .samples
             .iter()
-            .zip(c.mean.iter().zip(&c.std))
-            .map(|(x, (m, s))| (*x, m + s))
-            .chain(
-                c.samples
-                    .iter()
-                    .zip(c.mean.iter().zip(&c.std))
-                    .rev()
-                    .map(|(x, (m, s))| (*x, m - s)),
-            )
+            .copied()
+            .zip(c.hi.iter().copied())
+            .chain(c.samples.iter().copied().zip(c.lo.iter().copied()).rev())
             .collect();
         chart
             .draw_series(std::iter::once(Polygon::new(
@@ -383,7 +459,7 @@ where
             .map_err(err)?;
         chart
             .draw_series(LineSeries::new(
-                c.samples.iter().copied().zip(c.mean.iter().copied()),
+                c.samples.iter().copied().zip(c.line.iter().copied()),
                 color.stroke_width(2),
             ))
             .map_err(err)?
@@ -485,6 +561,45 @@ mod tests {
         Run::unseeded(group, points.to_vec())
     }
 
+    fn std_band() -> Band {
+        Band {
+            stat: Stat::Mean,
+            kind: BandKind::Std,
+            bootstrap: Bootstrap::with_reps(100),
+        }
+    }
+
+    #[test]
+    fn the_default_band_is_the_bootstrap_interval_of_the_line() {
+        // Five seeds, y = k·x for k = 1..=5 at x = 10: values 10, 20, 30, 40, 50.
+        let runs: Vec<Run> = (1..=5)
+            .map(|k| run("a", &[(0.0, 0.0), (10.0, 10.0 * k as f64)]))
+            .collect();
+        let bootstrap = Bootstrap::with_reps(2_000);
+        for stat in [Stat::Mean, Stat::Iqm] {
+            let band = Band {
+                stat,
+                kind: BandKind::Ci,
+                bootstrap,
+            };
+            let c = &curves(&runs, 1, 2, &band).unwrap()[0];
+            let aggregate = if stat == Stat::Mean {
+                Aggregate::Mean
+            } else {
+                Aggregate::Iqm
+            };
+            let e = bootstrap.aggregate(&[10.0, 20.0, 30.0, 40.0, 50.0], aggregate);
+            assert_eq!(
+                (c.line[1], c.lo[1], c.hi[1]),
+                (e.point, e.lo, e.hi),
+                "{stat:?}"
+            );
+            assert!(c.lo[1] < 30.0 && 30.0 < c.hi[1]);
+            // The table's mean ± std stays beside it.
+            assert_eq!(c.mean[1], 30.0);
+        }
+    }
+
     #[test]
     fn curves_average_seeds_on_a_shared_grid() {
         let runs = [
@@ -492,7 +607,7 @@ mod tests {
             run("a", &[(2.0, 4.0), (12.0, 14.0), (18.0, 20.0)]),
             run("b", &[(0.0, 5.0), (30.0, 5.0)]),
         ];
-        let c = curves(&runs, 1, 5).unwrap();
+        let c = curves(&runs, 1, 5, &std_band()).unwrap();
         assert_eq!(c.len(), 2);
         let a = &c[0];
         assert_eq!((a.group.as_str(), a.seeds), ("a", 2));
@@ -517,7 +632,7 @@ mod tests {
         runs[0].seed = Some(0);
         runs[1].seed = Some(2);
         each_seed_apart(&mut runs);
-        let curves = curves(&runs, 1, 2).unwrap();
+        let curves = curves(&runs, 1, 2, &std_band()).unwrap();
         let lines: Vec<(&str, usize, f64)> = curves
             .iter()
             .map(|c| (c.group.as_str(), c.seeds, c.mean[0]))

@@ -2,7 +2,8 @@
 
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
-use logo_algo::episode::{mean_std, run_episode_with};
+use logo_algo::episode::run_episode_with;
+use logo_stats::mean_std;
 
 use crate::video::{Video, VideoArgs};
 use logo_envs::{EnvFactory, EnvOptions, all_env_ids};

@@ -11,6 +11,7 @@ use std::path::PathBuf;
 
 use anyhow::{Result, bail, ensure};
 use clap::Args;
+use logo_stats::{Aggregate, Bootstrap, Estimate, mean_std, median};
 
 use crate::runs::{
     ExternalSpec, Metric, Run, discover, each_seed_apart, external_runs, interpolate,
@@ -51,6 +52,16 @@ pub struct SummaryArgs {
     /// names a configuration after its config file). Repeatable.
     #[arg(long = "label", value_parser = parse_label)]
     labels: Vec<(String, String)>,
+    /// Leave out the second table (mean and IQM over seeds with bootstrap intervals).
+    #[arg(long)]
+    no_intervals: bool,
+    /// Resamples of the stratified bootstrap behind every interval.
+    #[arg(long, default_value_t = 50_000)]
+    reps: usize,
+    /// Also compare configuration A with B at each budget: the probability that a seed of
+    /// A improves on one of B, and the difference of their IQMs, with 95% intervals.
+    #[arg(long, num_args = 2, value_names = ["A", "B"])]
+    compare: Option<Vec<String>>,
 }
 
 /// How a `--at` column reads a run.
@@ -113,12 +124,8 @@ fn value_at(points: &[(f64, f64)], x: f64, rule: AtRule) -> Option<f64> {
         AtRule::Interpolate => (x <= final_samples).then(|| interpolate(points, x)),
         AtRule::Window(n) => {
             // "One evaluation short": the median spacing between evaluations.
-            let mut gaps: Vec<f64> = points.windows(2).map(|w| w[1].0 - w[0].0).collect();
-            let spacing = if gaps.is_empty() {
-                0.0
-            } else {
-                median(&mut gaps)
-            };
+            let gaps: Vec<f64> = points.windows(2).map(|w| w[1].0 - w[0].0).collect();
+            let spacing = if gaps.is_empty() { 0.0 } else { median(&gaps) };
             if x > final_samples + spacing {
                 return None;
             }
@@ -134,28 +141,6 @@ fn value_at(points: &[(f64, f64)], x: f64, rule: AtRule) -> Option<f64> {
             let window = &nearest[..n.min(nearest.len())];
             Some(window.iter().map(|p| p.1).sum::<f64>() / window.len() as f64)
         }
-    }
-}
-
-/// Mean ± sample standard deviation (0 for one value).
-fn mean_std(values: &[f64]) -> (f64, f64) {
-    let n = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / n;
-    let var = if values.len() > 1 {
-        values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0)
-    } else {
-        0.0
-    };
-    (mean, var.sqrt())
-}
-
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        (values[n / 2 - 1] + values[n / 2]) / 2.0
     }
 }
 
@@ -229,7 +214,7 @@ pub fn table(runs: &[Run], at: &[f64], rule: AtRule, threshold: Option<f64>) -> 
             format!("{}–{}", thousands(lo), thousands(hi)),
             pm(&col(|r| r.final_return)),
             pm(&col(|r| r.peak)),
-            thousands(median(&mut col(|r| r.samples_at_peak))),
+            thousands(median(&col(|r| r.samples_at_peak))),
             pm(&col(|r| r.late_mean)),
         ];
         for column in 0..at.len() {
@@ -242,12 +227,12 @@ pub fn table(runs: &[Run], at: &[f64], rule: AtRule, threshold: Option<f64>) -> 
             });
         }
         if threshold.is_some() {
-            let mut reached: Vec<f64> = s.iter().filter_map(|r| r.reached_at).collect();
+            let reached: Vec<f64> = s.iter().filter_map(|r| r.reached_at).collect();
             row.push(if reached.is_empty() {
                 format!("0/{}", s.len())
             } else {
                 let n = reached.len();
-                format!("{n}/{} ({})", s.len(), thousands(median(&mut reached)))
+                format!("{n}/{} ({})", s.len(), thousands(median(&reached)))
             });
         }
         out.push_str(&format!("| {} |\n", row.join(" | ")));
@@ -277,7 +262,144 @@ pub fn run(args: &SummaryArgs) -> Result<()> {
     }
     let rule = args.window.map_or(AtRule::Interpolate, AtRule::Window);
     print!("{}", table(&runs, &args.at, rule, args.threshold)?);
+    ensure!(args.reps >= 1, "--reps must be at least 1");
+    let bootstrap = Bootstrap::with_reps(args.reps);
+    if !args.no_intervals {
+        print!("\n{}", intervals_table(&runs, &args.at, rule, &bootstrap));
+    }
+    if let Some([a, b]) = args.compare.as_deref() {
+        print!(
+            "\n{}",
+            compare_table(&runs, a, b, &args.at, rule, &bootstrap)?
+        );
+    }
     Ok(())
+}
+
+/// Each group's values per budget column: "final", then one per `--at` (the seeds
+/// that reach it).
+fn budget_values(runs: &[Run], at: &[f64], rule: AtRule) -> BTreeMap<String, Vec<Vec<f64>>> {
+    let mut groups: BTreeMap<String, Vec<Vec<f64>>> = BTreeMap::new();
+    for run in runs {
+        let s = summarise(run, at, rule, None);
+        let columns = groups
+            .entry(run.group.clone())
+            .or_insert_with(|| vec![Vec::new(); at.len() + 1]);
+        columns[0].push(s.final_return);
+        for (column, value) in columns[1..].iter_mut().zip(&s.at) {
+            column.extend(value);
+        }
+    }
+    groups
+}
+
+fn budget_names(at: &[f64], rule: AtRule) -> Vec<String> {
+    let mut names = vec!["final".to_string()];
+    names.extend(at.iter().map(|&x| match rule {
+        AtRule::Interpolate => format!("at {}", thousands(x)),
+        AtRule::Window(n) => format!("at {}, mean of {n}", thousands(x)),
+    }));
+    names
+}
+
+fn interval(e: Estimate) -> String {
+    format!("{:.0} [{:.0}, {:.0}]", e.point, e.lo, e.hi)
+}
+
+/// Mean and interquartile mean over each group's seeds at each budget, with
+/// stratified-bootstrap 95% percentile intervals (logo-stats' conventions).
+pub fn intervals_table(runs: &[Run], at: &[f64], rule: AtRule, bootstrap: &Bootstrap) -> String {
+    let names = budget_names(at, rule);
+    let mut out = format!(
+        "Over seeds, with 95% stratified-bootstrap intervals ({} resamples):\n\n",
+        bootstrap.reps
+    );
+    let mut header = vec!["configuration".to_string(), "seeds".to_string()];
+    for name in &names {
+        header.push(format!("{name}: mean [95% CI]"));
+        header.push(format!("{name}: IQM [95% CI]"));
+    }
+    out.push_str(&format!(
+        "| {} |\n|{}\n",
+        header.join(" | "),
+        " --- |".repeat(header.len())
+    ));
+    for (group, columns) in budget_values(runs, at, rule) {
+        // Every run has a final value: its count is the group's seeds.
+        let all = columns[0].len();
+        let mut row = vec![group, all.to_string()];
+        for values in &columns {
+            match values.len() {
+                0 => row.extend(["—".to_string(), "—".to_string()]),
+                1 => row.extend([format!("{:.0}", values[0]), "—".to_string()]),
+                n => {
+                    let seeds = if n < all {
+                        format!(" ({n} seeds)")
+                    } else {
+                        String::new()
+                    };
+                    for aggregate in [Aggregate::Mean, Aggregate::Iqm] {
+                        row.push(interval(bootstrap.aggregate(values, aggregate)) + &seeds);
+                    }
+                }
+            }
+        }
+        out.push_str(&format!("| {} |\n", row.join(" | ")));
+    }
+    out
+}
+
+/// Configuration `a` against `b` at each budget: P(a > b) and IQM(a) − IQM(b), each with
+/// its 95% interval over independent resamples of the two groups' seeds.
+pub fn compare_table(
+    runs: &[Run],
+    a: &str,
+    b: &str,
+    at: &[f64],
+    rule: AtRule,
+    bootstrap: &Bootstrap,
+) -> Result<String> {
+    let groups = budget_values(runs, at, rule);
+    let known = || groups.keys().cloned().collect::<Vec<_>>().join(", ");
+    let of = |name: &str| {
+        groups.get(name).ok_or_else(|| {
+            anyhow::anyhow!(
+                "--compare: no configuration {name:?} among the runs (they are: {})",
+                known()
+            )
+        })
+    };
+    let (xa, xb) = (of(a)?, of(b)?);
+    let mut out = format!(
+        "{a} against {b}, with 95% bootstrap intervals ({} resamples):\n\n\
+         | budget | seeds | P({a} > {b}) [95% CI] | IQM difference [95% CI] |\n\
+         | --- | --- | --- | --- |\n",
+        bootstrap.reps
+    );
+    for ((name, x), y) in budget_names(at, rule).iter().zip(xa).zip(xb) {
+        if x.is_empty() || y.is_empty() {
+            out.push_str(&format!(
+                "| {name} | {} vs {} | — | — |\n",
+                x.len(),
+                y.len()
+            ));
+            continue;
+        }
+        let p = bootstrap.improvement(x, y);
+        let d = bootstrap.estimate_two(std::slice::from_ref(x), std::slice::from_ref(y), |x, y| {
+            Aggregate::Iqm.of(x) - Aggregate::Iqm.of(y)
+        });
+        out.push_str(&format!(
+            "| {name} | {} vs {} | {:.2} [{:.2}, {:.2}] | {} |\n",
+            x.len(),
+            y.len(),
+            p.point,
+            p.lo,
+            p.hi,
+            interval(d)
+        ));
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -375,6 +497,67 @@ mod tests {
         assert!(
             t.lines().nth(2).unwrap().ends_with("| 5 ± 0 | 9 ± 0 |"),
             "{t}"
+        );
+    }
+
+    fn five_and_three() -> Vec<Run> {
+        let mut runs: Vec<Run> = [10.0, 20.0, 30.0, 40.0, 1000.0]
+            .iter()
+            .map(|&y| run("a", &[(1e5, y), (2e5, y)]))
+            .collect();
+        runs.extend(
+            [1.0, 2.0, 3.0]
+                .iter()
+                .map(|&y| run("b", &[(1e5, y), (1.5e5, y)])),
+        );
+        runs
+    }
+
+    #[test]
+    fn the_interval_table_gives_mean_and_iqm_with_their_intervals() {
+        let runs = five_and_three();
+        let bootstrap = Bootstrap::with_reps(2_000);
+        let t = intervals_table(&runs, &[2e5], AtRule::Interpolate, &bootstrap);
+        let rows: Vec<&str> = t
+            .lines()
+            .filter(|l| l.starts_with("| a") || l.starts_with("| b"))
+            .collect();
+        let values = [10.0, 20.0, 30.0, 40.0, 1000.0];
+        let mean = bootstrap.aggregate(&values, Aggregate::Mean);
+        let iqm = bootstrap.aggregate(&values, Aggregate::Iqm);
+        // IQM of five drops one at each end: (20 + 30 + 40) / 3 = 30, far from the mean 220.
+        assert_eq!(iqm.point, 30.0);
+        assert_eq!(
+            rows[0],
+            format!(
+                "| a | 5 | {} | {} | {} | {} |",
+                interval(mean),
+                interval(iqm),
+                interval(mean),
+                interval(iqm)
+            )
+        );
+        // b stops before 200k: its budget cell is empty.
+        assert!(
+            rows[1].starts_with("| b | 3 | 2 [1, 3] | 2 [1, 3] | — | — |"),
+            "{}",
+            rows[1]
+        );
+    }
+
+    #[test]
+    fn compare_gives_the_probability_of_improvement_and_names_unknown_groups() {
+        let runs = five_and_three();
+        let bootstrap = Bootstrap::with_reps(2_000);
+        let t = compare_table(&runs, "a", "b", &[], AtRule::Interpolate, &bootstrap).unwrap();
+        // Every a is above every b: P = 1 in every resample.
+        assert!(t.contains("| final | 5 vs 3 | 1.00 [1.00, 1.00] |"), "{t}");
+        let t = compare_table(&runs, "b", "a", &[], AtRule::Interpolate, &bootstrap).unwrap();
+        assert!(t.contains("| final | 3 vs 5 | 0.00 [0.00, 0.00] |"), "{t}");
+        let e = compare_table(&runs, "a", "c", &[], AtRule::Interpolate, &bootstrap).unwrap_err();
+        assert!(
+            e.to_string().contains("no configuration \"c\"") && e.to_string().contains("a, b"),
+            "{e}"
         );
     }
 }

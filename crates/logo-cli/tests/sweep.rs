@@ -103,8 +103,9 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
     assert_eq!(rows(&out.join("c").join("seed1")).len(), 2);
 
     // The figure and its data: with a 2-point grid, the CSV holds each config's mean and
-    // std over its seeds at the start and the end of the range both seeds cover; an
-    // outside curve (a published reference) is drawn over them and its points follow.
+    // std over its seeds (then the line drawn and its band) at the start and the end of
+    // the range both seeds cover; an outside curve (a published reference) is drawn over
+    // them and its points follow.
     let figure = dir.join("fig.png");
     let reference = dir.join("published.csv");
     std::fs::write(&reference, "step,score\n100,5\n200,\n300,7\n").unwrap();
@@ -144,8 +145,8 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
     assert_eq!(
         external_rows,
         [
-            ["the paper", "100", "5", "0", "1"],
-            ["the paper", "300", "7", "0", "1"]
+            ["the paper", "100", "5", "0", "1", "5", "5", "5"],
+            ["the paper", "300", "7", "0", "1", "7", "7", "7"]
         ]
         .map(|r| r.map(String::from).to_vec()),
         "{csv}"
@@ -197,17 +198,14 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
         "b=LOGO",
     ]);
     let text = String::from_utf8_lossy(&apart.stdout);
-    let labels: Vec<&str> = text
-        .lines()
-        .skip(2)
+    // The first table (the interval table follows a blank line).
+    let first_table = || text.lines().take_while(|l| !l.is_empty()).skip(2);
+    let labels: Vec<&str> = first_table()
         .filter_map(|l| l.strip_prefix("| ")?.split(" |").next())
         .collect();
     assert!(apart.status.success(), "{text}");
     assert_eq!(labels, ["LOGO seed 0", "LOGO seed 1"], "{text}");
-    assert!(
-        text.lines().skip(2).all(|l| l.contains(" | 1 | ")),
-        "{text}"
-    );
+    assert!(first_table().all(|l| l.contains(" | 1 | ")), "{text}");
 
     for (name, runs) in [("b", 2)] {
         let seeds: Vec<Vec<Vec<String>>> = (0..runs)

@@ -15,7 +15,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use super::stats::median;
+use logo_stats::median;
 
 #[derive(Args)]
 pub struct EnvBenchArgs {
@@ -122,9 +122,9 @@ pub fn run(args: &EnvBenchArgs) -> Result<()> {
             ratio: single.ratio,
             vec_threads: args.threads,
             vec_envs: args.vec_envs,
-            vec_env_steps_per_s: median(vec_rates),
-            vec_one_thread_steps_per_s: median(one_thread_rates),
-            vec_speedup: median(speedups),
+            vec_env_steps_per_s: median(&vec_rates),
+            vec_one_thread_steps_per_s: median(&one_thread_rates),
+            vec_speedup: median(&speedups),
         });
     }
     let report = EnvBenchReport {
@@ -241,9 +241,9 @@ pub fn single_thread_rates(
     }
 
     Ok(SingleThread {
-        env_steps_per_s: median(env_rates),
-        raw_env_steps_per_s: median(raw_rates),
-        ratio: median(ratios),
+        env_steps_per_s: median(&env_rates),
+        raw_env_steps_per_s: median(&raw_rates),
+        ratio: median(&ratios),
         actions,
     })
 }

@@ -23,8 +23,8 @@ use serde::Serialize;
 
 use super::envs::single_thread_rates;
 use super::nn::block_products;
-use super::stats::median;
 use crate::engine::{Dtype, EngineArgs, WithEngine};
+use logo_stats::median;
 
 #[derive(Args)]
 pub struct IterationBenchArgs {
@@ -157,22 +157,27 @@ pub fn run(args: &IterationBenchArgs) -> Result<()> {
         Dtype::F64 => block_products::<f64>(7),
         Dtype::F32 => block_products::<f32>(7),
     };
-    let gemm_rate = median(gemm.iter().map(|g| g.gflops).collect());
+    let gemm_rate = median(&gemm.iter().map(|g| g.gflops).collect::<Vec<_>>());
 
     let kept = |m: &Measured| m.rows[args.skip..].to_vec();
     let per_iteration = |rows: &[IterationMetrics]| {
-        median(rows.windows(2).map(|w| w[1].wall_s - w[0].wall_s).collect())
+        median(
+            &rows
+                .windows(2)
+                .map(|w| w[1].wall_s - w[0].wall_s)
+                .collect::<Vec<_>>(),
+        )
     };
     let phases: Vec<Phase> = PHASES
         .iter()
         .map(|&(phase, column)| Phase {
             phase,
-            seconds: median(kept(&sequential).iter().map(column).collect()),
+            seconds: median(&kept(&sequential).iter().map(column).collect::<Vec<_>>()),
             gflop: median(
-                sequential.flops[args.skip..]
+                &sequential.flops[args.skip..]
                     .iter()
                     .map(|f| f.get(phase).copied().unwrap_or(0) as f64 / 1e9)
-                    .collect(),
+                    .collect::<Vec<_>>(),
             ),
         })
         .collect();

@@ -4,7 +4,6 @@
 mod envs;
 mod iteration;
 mod nn;
-mod stats;
 
 use anyhow::Result;
 use clap::Subcommand;

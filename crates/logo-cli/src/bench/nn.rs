@@ -18,8 +18,8 @@ use logo_nn::loss::{gaussian_log_prob, mse, value_and_grad, value_and_grad2};
 use logo_nn::{Cpu, Engine, FisherKind, FisherOperator, Policy, PolicyConfig, ValueNetConfig};
 use serde::Serialize;
 
-use super::stats::median;
 use crate::engine::{EngineArgs, WithEngine};
+use logo_stats::median;
 
 #[derive(Args)]
 pub struct NnBenchArgs {
@@ -140,7 +140,7 @@ pub fn block_products<F: KernelFloat>(repeats: usize) -> Vec<GemmBench> {
                 .1 / passes as f64
             };
             timed(); // warm-up
-            let seconds = median((0..repeats).map(|_| timed()).collect());
+            let seconds = median(&(0..repeats).map(|_| timed()).collect::<Vec<_>>());
             GemmBench {
                 shape,
                 ms: seconds * 1e3,
@@ -178,7 +178,7 @@ fn acting(args: &NnBenchArgs) -> ActingBench {
                 s / calls as f64 * 1e6
             })
             .collect();
-        median(samples)
+        median(&samples)
     };
     ActingBench {
         forward_batch1_us: latency(&rows(1)),
@@ -253,7 +253,7 @@ impl WithEngine for Bench<'_> {
         let net = engine.net(&dims, &logo_nn::flat::params_to_vec(&critic));
         let targets = engine.upload(&values(args.batch, 0.3), [args.batch, 1]);
         let critic_ms = median(
-            (0..args.repeats)
+            &(0..args.repeats)
                 .map(|_| {
                     time(|| {
                         let trace = engine.trace(&net, &obs);
@@ -264,16 +264,16 @@ impl WithEngine for Bench<'_> {
                     })
                     .1
                 })
-                .collect(),
+                .collect::<Vec<_>>(),
         ) * 1e3;
         Ok(EngineBench {
             engine: engine.describe(),
             hidden: config.hidden.clone(),
             batch: args.batch,
-            policy_gradient_ms: median(pg) * 1e3,
+            policy_gradient_ms: median(&pg) * 1e3,
             fvp_setup_ms: (trace_s + curvature_s) * 1e3,
-            fvp_ms: median(fv) * 1e3,
-            fvp_over_gradient: median(ratios),
+            fvp_ms: median(&fv) * 1e3,
+            fvp_over_gradient: median(&ratios),
             critic_ms,
         })
     }
