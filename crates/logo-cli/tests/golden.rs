@@ -1,0 +1,128 @@
+//! Golden runs: the reference-faithful LOGO configs train to the same numbers as the
+//! binary that wrote `tests/golden/` (commit 463789f, whose training code is that of
+//! every kept paper-scale run: `git diff ac77080 463789f -- crates/logo-algo
+//! crates/logo-nn crates/logo-envs` is empty). Sparse IDP for 6 iterations and sparse
+//! Hopper for 3, in float64 and float32: every `metrics.csv` column but the timings, and
+//! every tensor of the final checkpoint bit for bit (as SHA-256 digests of their values).
+//! Refactors of the trainer, the envs or the engines must keep these; a change that is
+//! meant to change the numbers rewrites the fixtures with `LOGO_GOLDEN_WRITE=1` and says
+//! so in its commit.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use logo_nn::Checkpoint;
+use sha2::{Digest, Sha256};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// metrics.csv without its timing columns (wall_s and t_*).
+fn metrics(dir: &Path) -> String {
+    let csv = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    csv.lines()
+        .map(|line| {
+            let kept: Vec<&str> = line
+                .split(',')
+                .zip(&header)
+                .filter(|(_, h)| **h != "wall_s" && !h.starts_with("t_"))
+                .map(|(v, _)| v)
+                .collect();
+            kept.join(",") + "\n"
+        })
+        .collect()
+}
+
+/// One line per tensor of the final checkpoint: name, length, SHA-256 of its values'
+/// little-endian bits.
+fn tensors(dir: &Path) -> String {
+    let ckpt = Checkpoint::load(&dir.join("checkpoint.safetensors")).unwrap();
+    let mut out = String::new();
+    for name in ckpt.tensor_names() {
+        let values = ckpt.tensor(name).unwrap().1;
+        let mut hash = Sha256::new();
+        for v in values {
+            hash.update(v.to_bits().to_le_bytes());
+        }
+        let digest: String = hash.finalize().iter().map(|b| format!("{b:02x}")).collect();
+        writeln!(out, "{name} {} {digest}", values.len()).unwrap();
+    }
+    out
+}
+
+fn check(name: &str, config: &str, iterations: &str, dtype: &str) {
+    let out = std::env::temp_dir().join(format!("logo-golden-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let status = Command::new(env!("CARGO_BIN_EXE_logo"))
+        .current_dir(root())
+        .args(["train", "--config", config, "--iterations", iterations])
+        .args(["--dtype", dtype, "--no-tensorboard", "--out"])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success(), "{name}: logo train failed");
+    let fixture = root().join("tests/golden").join(name);
+    let (metrics, tensors) = (metrics(&out), tensors(&out));
+    std::fs::remove_dir_all(&out).unwrap();
+    if std::env::var_os("LOGO_GOLDEN_WRITE").is_some() {
+        std::fs::create_dir_all(&fixture).unwrap();
+        std::fs::write(fixture.join("metrics.csv"), &metrics).unwrap();
+        std::fs::write(fixture.join("tensors.txt"), &tensors).unwrap();
+        return;
+    }
+    let read = |file: &str| {
+        std::fs::read_to_string(fixture.join(file))
+            .unwrap_or_else(|e| panic!("{}: {e}", fixture.join(file).display()))
+    };
+    let want = read("metrics.csv");
+    for (k, (got, want)) in metrics.lines().zip(want.lines()).enumerate() {
+        assert_eq!(
+            got, want,
+            "{name}: metrics.csv line {k} differs from the golden run"
+        );
+    }
+    assert_eq!(
+        metrics.lines().count(),
+        want.lines().count(),
+        "{name}: row count"
+    );
+    assert_eq!(
+        tensors,
+        read("tensors.txt"),
+        "{name}: final checkpoint's tensors"
+    );
+}
+
+#[test]
+fn sparse_idp_six_iterations_float64() {
+    check(
+        "idp-f64",
+        "configs/logo/inverted_double_pendulum.toml",
+        "6",
+        "f64",
+    );
+}
+
+#[test]
+fn sparse_idp_six_iterations_float32() {
+    check(
+        "idp-f32",
+        "configs/logo/inverted_double_pendulum.toml",
+        "6",
+        "f32",
+    );
+}
+
+#[test]
+fn sparse_hopper_three_iterations_float64() {
+    check("hopper-f64", "configs/logo/hopper.toml", "3", "f64");
+}
+
+#[test]
+fn sparse_hopper_three_iterations_float32() {
+    check("hopper-f32", "configs/logo/hopper.toml", "3", "f32");
+}
