@@ -18,7 +18,8 @@ use crate::validate::{MAX_ENVS, MAX_SAMPLES_PER_ITER, check_positive, check_widt
 pub struct TrainConfig {
     /// Training env id, e.g. `SparseInvertedDoublePendulum-v4`.
     pub env: String,
-    /// Evaluation env id; default: `env` without the `Sparse` prefix (the dense task).
+    /// Evaluation env id; default: `env` itself, reporting the dense return beside its
+    /// own. [`TrainConfig::eval_env_id`] names the dense task for videos and `logo eval`.
     pub eval_env: Option<String>,
     #[serde(default)]
     pub seed: u64,

@@ -64,6 +64,8 @@ pub fn run_episode_with<E: From<EnvError>>(
 /// What a training run's evaluation reports: means over its episodes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Evaluation {
+    /// The trained task's own return (the sparse one on a sparse task).
+    pub return_: f64,
     pub dense_return: f64,
     pub moved: f64,
     pub action_rms: f64,
@@ -95,6 +97,7 @@ pub fn evaluate(
         episodes.iter().map(of).sum::<f64>() / episodes.len().max(1) as f64
     };
     Ok(Evaluation {
+        return_: mean(|e| e.return_),
         dense_return: mean(|e| e.dense_return),
         moved: mean(|e| e.moved),
         action_rms: mean(|e| e.action_rms),

@@ -19,6 +19,11 @@ pub struct IterationMetrics {
     pub train_dense_return: f64,
     /// Mean dense return of the deterministic policy (NaN when not evaluated).
     pub eval_dense_return: f64,
+    /// Its mean return of the trained task's own reward (the sparse one on a sparse
+    /// task), by which `best.safetensors` is chosen. Absent (NaN) in files written
+    /// before this column existed.
+    #[serde(default = "nan")]
+    pub eval_return: f64,
     /// The evaluation episodes' mean distance moved (`qpos[0]`, end minus start) and mean
     /// action RMS (as given to the env, before MuJoCo clamps it). Absent (NaN) in files
     /// written before these columns existed.

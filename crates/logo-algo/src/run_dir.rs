@@ -23,6 +23,8 @@ pub struct RunDir {
 
 /// The checkpoint's file name inside a run folder.
 pub const CHECKPOINT: &str = "checkpoint.safetensors";
+/// Beside it: the policy (a whole checkpoint) of the run's best evaluation.
+pub const BEST: &str = "best.safetensors";
 
 /// `what` failed on `path`: the error with the path in it.
 fn at(path: &Path, e: impl std::fmt::Display) -> TrainError {
@@ -142,6 +144,11 @@ impl RunDir {
 
     pub fn checkpoint_path(&self) -> PathBuf {
         self.path.join(CHECKPOINT)
+    }
+
+    /// The policy with the highest evaluation return of the trained task so far.
+    pub fn best_path(&self) -> PathBuf {
+        self.path.join(BEST)
     }
 
     pub fn metrics_path(&self) -> PathBuf {

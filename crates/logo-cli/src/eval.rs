@@ -49,6 +49,12 @@ pub struct EvalArgs {
     /// the per-iteration evaluation do not clip (neither does the reference code).
     #[arg(long)]
     clip_actions: bool,
+    /// Print, as JSON, what a run's `eval.json` holds for one policy: --episodes
+    /// episodes (at least 20) of the checkpoint's trained task from the fresh initial
+    /// states of its seed, the mean action as sent and clipped, each episode's return,
+    /// dense return, length, distance and action RMS, and the success rate.
+    #[arg(long, conflicts_with_all = ["sample", "split_at", "clip_actions", "env", "video"])]
+    json: bool,
     /// The engine the policy is loaded onto (any engine or float type loads any
     /// checkpoint); episodes act with its host copy, as training does. Default: the one
     /// the checkpoint last trained on where that is a CPU one, else the kernels in
@@ -104,6 +110,22 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     let last = history.last().map(|span| span.engine.as_str());
     let (engine_args, _) = args.engine.or_trained_on(last, EngineArgs::on_cpu);
     let (acting, engine) = engine_args.with(OnEngine(&policy))?;
+    if args.json {
+        anyhow::ensure!(
+            args.episodes >= crate::final_eval::EPISODES,
+            "--json evaluates at least {} episodes, --episodes is {}",
+            crate::final_eval::EPISODES,
+            args.episodes
+        );
+        let mut report =
+            crate::final_eval::report(&meta.env_id, &acting, meta.seed, args.episodes)?;
+        report["checkpoint"] = args.checkpoint.display().to_string().into();
+        report["iteration"] = meta.iteration.into();
+        report["env"] = meta.env_id.clone().into();
+        report["engine"] = engine.into();
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
     let trained_on = history
         .iter()
         .map(|span| format!("{} from iteration {}", span.engine, span.from_iteration))

@@ -4,6 +4,7 @@ mod bench;
 mod data;
 mod engine;
 mod eval;
+mod final_eval;
 mod plot;
 mod rollout;
 mod runs;

@@ -6,12 +6,13 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use logo_algo::episode::evaluation_seed;
-use logo_algo::run_dir::CHECKPOINT;
+use logo_algo::run_dir::{BEST, CHECKPOINT};
 use logo_algo::{Schedule, TrainConfig, Trainer};
 use logo_envs::{EnvFactory, EnvOptions};
-use logo_nn::{Checkpoint, Engine};
+use logo_nn::{Checkpoint, Engine, Policy};
 
 use crate::engine::{EngineArgs, WithEngine};
+use crate::final_eval;
 use crate::video::{Frames, Video, VideoLook, record_episode};
 
 /// How each iteration's steps are laid over the threads (the numbers are the same).
@@ -240,7 +241,6 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
     );
     let total = trainer.config.iterations;
     let guided = trainer.config.guidance.is_some();
-    let mut best = (f64::NEG_INFINITY, 0);
     let mut last = None;
     // The speed is this invocation's: a resumed run's wall_s also holds earlier
     // invocations' time, perhaps under another load or on another machine.
@@ -251,9 +251,6 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         made += 1;
         if video_every.is_some_and(|n| (m.iteration + 1).is_multiple_of(n)) {
             record_iteration(&trainer, &out, m.iteration + 1)?;
-        }
-        if m.eval_dense_return > best.0 {
-            best = (m.eval_dense_return, m.iteration);
         }
         let per_iter = started.elapsed().as_secs_f64() / made as f64;
         println!(
@@ -299,14 +296,49 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         return Ok(());
     };
     println!(
-        "done in {:.1} s: final eval dense return {:.1}, best {:.1} at iteration {}; {} and {}",
+        "done in {:.1} s: final eval dense return {:.1}; {} and {}",
         last.wall_s,
         last.eval_dense_return,
-        best.0,
-        best.1 + 1,
         out.join("metrics.csv").display(),
         out.join(CHECKPOINT).display()
     );
+    end_of_run_evaluation(&trainer, &out)
+}
+
+/// `eval.json`: the final and the best policy (the first to reach the highest evaluation
+/// of the trained task's own return, kept by the trainer as best.safetensors) over fresh
+/// initial states of the trained task, on the run's engine (see `final_eval`).
+fn end_of_run_evaluation<E: Engine>(trainer: &Trainer<E>, out: &Path) -> Result<()> {
+    let config = &trainer.config;
+    let engine = trainer.engine();
+    let env = config.eval_env.as_deref().unwrap_or(&config.env);
+    let (seed, episodes) = (config.seed, final_eval::EPISODES);
+    let acting = trainer.policy().acting(engine);
+    let mut policies = vec![(
+        "final",
+        CHECKPOINT,
+        trainer.iteration() as u64,
+        final_eval::report(env, &acting, seed, episodes)?,
+    )];
+    let best = out.join(BEST);
+    if best.is_file() {
+        let (module, meta) = crate::eval::load_policy(&best)?;
+        let acting = Policy::from_module(engine, &module).acting(engine);
+        let report = final_eval::report(env, &acting, seed, episodes)?;
+        policies.push(("best", BEST, meta.iteration, report));
+    }
+    final_eval::write(out, env, seed, episodes, &policies)?;
+    for (name, _, iteration, report) in &policies {
+        let s = &report["mean_action"]["summary"];
+        println!(
+            "{name} policy (iteration {iteration}) over {episodes} fresh episodes: return {:.1}, \
+             dense return {:.1}, success {:.0}%",
+            s["return"].as_f64().unwrap_or(f64::NAN),
+            s["dense_return"].as_f64().unwrap_or(f64::NAN),
+            100.0 * s["success_rate"].as_f64().unwrap_or(f64::NAN)
+        );
+    }
+    println!("evaluation: {}", out.join("eval.json").display());
     Ok(())
 }
 

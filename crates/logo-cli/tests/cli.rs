@@ -161,7 +161,10 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
             "3",
         ]);
         assert!(
-            stdout.contains("[   2/2]") && stdout.contains("final eval dense return"),
+            stdout.contains("[   2/2]")
+                && stdout.contains("final eval dense return")
+                && out_dir.join("best.safetensors").is_file()
+                && out_dir.join("eval.json").is_file(),
             "{stdout}"
         );
         let csv = std::fs::read_to_string(out_dir.join("metrics.csv")).unwrap();
@@ -233,6 +236,90 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
             .collect()
     };
     assert_eq!(values(&a), values(&b));
+}
+
+/// The best policy and the end-of-run evaluation: best.safetensors is the checkpoint of
+/// the iteration whose evaluation of the task's own return first reached its highest
+/// value; eval.json evaluates it and the final policy over 20 fresh episodes, as `logo
+/// eval --json` does; a run stopped and resumed ends with the same files' numbers.
+#[test]
+fn a_run_keeps_its_best_policy_and_ends_with_eval_json() {
+    let (dir, config) = tiny_run("best");
+    let train = |out: &Path, iterations: &str, resume: bool| {
+        let out = out.to_str().unwrap();
+        let config = config.to_str().unwrap();
+        let args: Vec<&str> = if resume {
+            vec!["train", "--resume", out, "--iterations", iterations]
+        } else {
+            let first = ["train", "--config", config, "--out", out, "--seed", "1"];
+            [&first[..], &["--iterations", iterations]].concat()
+        };
+        succeed(&args)
+    };
+    let whole = dir.join("whole");
+    let stdout = train(&whole, "4", false);
+    assert!(stdout.contains("best policy (iteration"), "{stdout}");
+    let csv = std::fs::read_to_string(whole.join("metrics.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let column = header.iter().position(|h| *h == "eval_return").unwrap();
+    let returns: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(column).unwrap().parse().unwrap())
+        .collect();
+    let top = returns.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let first_top = returns.iter().position(|&r| r == top).unwrap() + 1;
+    let best = logo_nn::Checkpoint::load(&whole.join("best.safetensors")).unwrap();
+    assert_eq!(best.meta.iteration, first_top as u64, "{returns:?}");
+
+    let eval: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(whole.join("eval.json")).unwrap()).unwrap();
+    assert_eq!(eval["episodes"], 20);
+    for policy in ["final", "best"] {
+        for acting in ["mean_action", "clipped"] {
+            let episodes = eval["policies"][policy][acting]["episodes"]
+                .as_array()
+                .unwrap();
+            assert_eq!(episodes.len(), 20, "{policy} {acting}");
+            assert!(episodes[0]["dense_return"].as_f64().unwrap().is_finite());
+        }
+    }
+    assert_eq!(eval["policies"]["best"]["iteration"], first_top);
+    let json = succeed(&[
+        "eval",
+        "--checkpoint",
+        whole.join("best.safetensors").to_str().unwrap(),
+        "--json",
+        "--episodes",
+        "20",
+    ]);
+    let alone: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(
+        alone["mean_action"],
+        eval["policies"]["best"]["mean_action"]
+    );
+    assert_eq!(alone["clipped"], eval["policies"]["best"]["clipped"]);
+
+    // Stopped after 2 iterations and resumed to 4: the same best and the same eval.json.
+    let parts = dir.join("parts");
+    train(&parts, "2", false);
+    train(&parts, "4", true);
+    let file = |run: &Path, name: &str| std::fs::read(run.join(name)).unwrap();
+    let tensors = |run: &Path| {
+        let c = logo_nn::Checkpoint::load(&run.join("best.safetensors")).unwrap();
+        let names: Vec<String> = c.tensor_names().map(String::from).collect();
+        let values: Vec<Vec<f64>> = names
+            .iter()
+            .map(|n| c.tensor(n).unwrap().1.to_vec())
+            .collect();
+        (c.meta.iteration, names, values)
+    };
+    assert_eq!(tensors(&parts), tensors(&whole));
+    let policies = |run: &Path| {
+        let v: serde_json::Value = serde_json::from_slice(&file(run, "eval.json")).unwrap();
+        v["policies"].clone()
+    };
+    assert_eq!(policies(&parts), policies(&whole));
 }
 
 #[test]

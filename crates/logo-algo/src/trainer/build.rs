@@ -85,6 +85,7 @@ impl<E: Engine> Trainer<E> {
             wall_offset: 0.0,
             engines,
             saved_at: None,
+            best_return: None,
             events: None,
             config,
             engine,
@@ -94,9 +95,13 @@ impl<E: Engine> Trainer<E> {
 }
 
 impl Evaluator {
-    /// The dense evaluation env of `config`, which must fit the training env's `spec`.
+    /// The evaluation env of `config`, which must fit the training env's `spec`: the
+    /// trained task itself, whose steps report the dense reward beside its own (a sparse
+    /// wrapper leaves the dynamics and the dense reward as they are), unless `eval_env`
+    /// names another.
     fn new(config: &TrainConfig, spec: &EnvSpec) -> Result<Self, TrainError> {
-        let env = EnvFactory::new(&config.eval_env_id(), &EnvOptions::default())?.build();
+        let id = config.eval_env.as_deref().unwrap_or(&config.env);
+        let env = EnvFactory::new(id, &EnvOptions::default())?.build();
         if env.spec().obs_dim != spec.obs_dim || env.spec().act_dim != spec.act_dim {
             return Err(format!(
                 "eval_env {} does not have the dims of env {}",

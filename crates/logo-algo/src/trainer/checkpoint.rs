@@ -316,6 +316,13 @@ impl<E: Engine> Trainer<E> {
             .keep_metrics_before(state.iteration)
             .map_err(|e| e.to_string())?;
         self.wall_offset = kept.last().map_or(0.0, |row| row.wall_s);
+        // The best so far as of the checkpoint: the iterations after it are redone, and
+        // redo the same evaluations (rows from before the column existed have none).
+        self.best_return = kept
+            .iter()
+            .map(|row| row.eval_return)
+            .filter(|r| r.is_finite())
+            .reduce(f64::max);
         Ok(())
     }
 

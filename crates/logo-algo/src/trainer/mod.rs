@@ -280,6 +280,12 @@ impl<E: Engine> Trainer<E> {
             self.save_checkpoint(&self.run.checkpoint_path())?;
             self.saved_at = Some(self.iteration);
         }
+        // The best policy: the first to reach the highest evaluation of the trained
+        // task's own return (sparse on a sparse task: the dense one is for reporting).
+        if row.eval_return.is_finite() && self.best_return.is_none_or(|b| row.eval_return > b) {
+            self.save_checkpoint(&self.run.best_path())?;
+            self.best_return = Some(row.eval_return);
+        }
         Ok(row)
     }
 
@@ -308,6 +314,7 @@ impl<E: Engine> Trainer<E> {
             train_sparse_return: batch.mean_return(),
             train_dense_return: batch.mean_dense_return(),
             eval_dense_return: eval(|e| e.dense_return),
+            eval_return: eval(|e| e.return_),
             eval_moved: eval(|e| e.moved),
             eval_action_rms: eval(|e| e.action_rms),
             delta_k: self.guidance.as_ref().map_or(0.0, |g| g.schedule.delta),

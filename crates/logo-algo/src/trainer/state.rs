@@ -47,6 +47,9 @@ pub struct Trainer<E: Engine> {
     pub(super) engines: Vec<EngineSpan>,
     /// The iteration count of the last checkpoint written (or resumed from).
     pub(super) saved_at: Option<usize>,
+    /// The highest evaluation return of the trained task so far, whose policy is in
+    /// `best.safetensors`.
+    pub(super) best_return: Option<f64>,
     /// TensorBoard's event file, once [`Trainer::write_tensorboard`] opened it.
     pub(super) events: Option<EventWriter>,
 }

@@ -1,0 +1,174 @@
+//! The evaluation a run ends with (`eval.json`), and `logo eval --json`: a policy's mean
+//! action over whole episodes of the trained task from fresh initial states, as sent and
+//! clipped to the action space, with every episode's numbers.
+//!
+//! Fresh initial states: episode k of a run with seed s starts from
+//! `reset(final_evaluation_seed(s, k))`, a stream of its own, apart from the fixed states
+//! every training iteration evaluates on ([`logo_algo::episode::evaluation_seed`]), so the
+//! end-of-run numbers are not those the best policy was picked on.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use logo_algo::episode::{Episode, run_episode};
+use logo_envs::{EnvFactory, EnvOptions};
+use logo_nn::ActingPolicy;
+use logo_stats::mean;
+use serde_json::{Value, json};
+
+/// The episodes every run's final evaluation plays.
+pub const EPISODES: usize = 20;
+
+/// Reset seed of final-evaluation episode `episode` of a run with `seed`.
+pub fn final_evaluation_seed(seed: u64, episode: usize) -> u64 {
+    3_000_000 + seed * 1000 + episode as u64
+}
+
+/// How actions reach the env.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Acting {
+    /// The mean action as the policy gives it (MuJoCo clamps it to the actuator range).
+    Mean,
+    /// The mean action clipped to the action space first (what the control cost sees).
+    MeanClipped,
+}
+
+/// `episodes` episodes of `env_id` from the fresh initial states of `seed`.
+pub fn play(
+    env_id: &str,
+    policy: &ActingPolicy,
+    acting: Acting,
+    seed: u64,
+    episodes: usize,
+) -> Result<Vec<Episode>> {
+    let mut env = EnvFactory::new(env_id, &EnvOptions::default())?.build();
+    let (low, high) = (
+        env.spec().action_low.clone(),
+        env.spec().action_high.clone(),
+    );
+    (0..episodes)
+        .map(|k| {
+            let episode = run_episode(env.as_mut(), final_evaluation_seed(seed, k), |obs| {
+                let mut action = policy.mean(obs);
+                if acting == Acting::MeanClipped {
+                    for ((a, lo), hi) in action.iter_mut().zip(&low).zip(&high) {
+                        *a = a.clamp(*lo, *hi);
+                    }
+                }
+                action
+            })?;
+            Ok(episode)
+        })
+        .collect()
+}
+
+/// Means over the episodes, and the success rate: the share of episodes whose own return
+/// is not zero (on a sparse task, that earned any sparse reward).
+pub fn summary(episodes: &[Episode]) -> Value {
+    let of = |f: fn(&Episode) -> f64| mean(&episodes.iter().map(f).collect::<Vec<_>>());
+    let successes = episodes.iter().filter(|e| e.return_ != 0.0).count();
+    json!({
+        "return": of(|e| e.return_),
+        "dense_return": of(|e| e.dense_return),
+        "length": of(|e| e.length as f64),
+        "moved": of(|e| e.moved),
+        "action_rms": of(|e| e.action_rms),
+        "success_rate": successes as f64 / episodes.len() as f64,
+    })
+}
+
+fn episode_json(e: &Episode) -> Value {
+    json!({
+        "return": e.return_,
+        "dense_return": e.dense_return,
+        "length": e.length,
+        "terminated": e.terminated,
+        "moved": e.moved,
+        "action_rms": e.action_rms,
+    })
+}
+
+/// One policy's report: as sent and clipped, each a summary and its episodes.
+pub fn report(env_id: &str, policy: &ActingPolicy, seed: u64, episodes: usize) -> Result<Value> {
+    let mut out = serde_json::Map::new();
+    for (name, acting) in [
+        ("mean_action", Acting::Mean),
+        ("clipped", Acting::MeanClipped),
+    ] {
+        let played = play(env_id, policy, acting, seed, episodes)?;
+        out.insert(
+            name.into(),
+            json!({
+                "summary": summary(&played),
+                "episodes": played.iter().map(episode_json).collect::<Vec<_>>(),
+            }),
+        );
+    }
+    Ok(Value::Object(out))
+}
+
+/// Writes `eval.json` into `run_dir` atomically: `policies` maps "final"/"best" to
+/// (checkpoint file, iteration, report).
+pub fn write(
+    run_dir: &Path,
+    env_id: &str,
+    seed: u64,
+    episodes: usize,
+    policies: &[(&str, &str, u64, Value)],
+) -> Result<()> {
+    let mut by_name = serde_json::Map::new();
+    for (name, file, iteration, report) in policies {
+        let mut entry = json!({ "checkpoint": file, "iteration": iteration });
+        entry
+            .as_object_mut()
+            .expect("an object")
+            .extend(report.as_object().cloned().unwrap_or_default());
+        by_name.insert(name.to_string(), entry);
+    }
+    let doc = json!({
+        "env": env_id,
+        "seed": seed,
+        "episodes": episodes,
+        "initial_states": format!(
+            "fresh: episode k resets with seed {} + k",
+            final_evaluation_seed(seed, 0)
+        ),
+        "policies": by_name,
+    });
+    let path = run_dir.join("eval.json");
+    let tmp = run_dir.join(format!("eval.json.tmp.{}", std::process::id()));
+    std::fs::write(&tmp, serde_json::to_string_pretty(&doc)? + "\n")
+        .with_context(|| format!("{}", tmp.display()))?;
+    std::fs::rename(&tmp, &path).with_context(|| format!("{}", path.display()))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn success_is_any_reward_and_means_are_per_episode() {
+        let e = |r: f64, len: usize| Episode {
+            return_: r,
+            dense_return: 2.0 * r,
+            length: len,
+            ..Episode::default()
+        };
+        let s = summary(&[e(0.0, 10), e(3.0, 20), e(1.0, 30), e(0.0, 40)]);
+        assert_eq!(s["success_rate"], 0.5);
+        assert_eq!(s["return"], 1.0);
+        assert_eq!(s["dense_return"], 2.0);
+        assert_eq!(s["length"], 25.0);
+    }
+
+    #[test]
+    fn fresh_states_are_not_the_training_evaluations() {
+        for k in 0..100 {
+            assert_ne!(
+                final_evaluation_seed(0, k),
+                logo_algo::episode::evaluation_seed(0, k)
+            );
+        }
+    }
+}
