@@ -61,6 +61,12 @@ pub struct TrainConfig {
     pub eval_every: usize,
     #[serde(default = "default_eval_steps")]
     pub eval_steps: usize,
+    /// Where each iteration's evaluation episodes start: `"fixed"` (the default: the
+    /// same initial states at every iteration, so that iterations compare on equal
+    /// footing) or `"fresh"` (new ones each iteration, as the LOGO reference code
+    /// evaluates, drawn from a stream of their own: training is the same either way).
+    #[serde(default)]
+    pub eval_initial_states: EvalInitialStates,
     #[serde(default = "default_checkpoint_every")]
     pub checkpoint_every: usize,
     /// Start from this policy: a LOGO reference `.pt` (the reference's `--init-BC`).
@@ -121,6 +127,17 @@ fn default_hidden() -> Vec<usize> {
 fn default_one() -> usize {
     1
 }
+/// `eval_initial_states`: where evaluation episodes start.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EvalInitialStates {
+    /// Reset seeds [`crate::episode::evaluation_seed`], the same at every iteration.
+    #[default]
+    Fixed,
+    /// Reset seeds drawn at each iteration from [`crate::streams::evaluation`].
+    Fresh,
+}
+
 fn default_eval_steps() -> usize {
     2048
 }

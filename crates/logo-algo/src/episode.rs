@@ -78,18 +78,17 @@ pub fn evaluation_seed(seed: u64, episode: usize) -> u64 {
 }
 
 /// The mean action of `policy` over whole episodes of at least `min_steps` steps in all,
-/// from the fixed initial states of [`evaluation_seed`].
+/// episode i from `reset(reset_seed(i))` (e.g. the fixed initial states of
+/// [`evaluation_seed`]).
 pub fn evaluate(
     env: &mut dyn Env,
     policy: &ActingPolicy,
-    seed: u64,
+    mut reset_seed: impl FnMut(usize) -> u64,
     min_steps: usize,
 ) -> Result<Evaluation, EnvError> {
     let (mut steps, mut episodes) = (0, Vec::new());
     while steps < min_steps {
-        let episode = run_episode(env, evaluation_seed(seed, episodes.len()), |obs| {
-            policy.mean(obs)
-        })?;
+        let episode = run_episode(env, reset_seed(episodes.len()), |obs| policy.mean(obs))?;
         steps += episode.length;
         episodes.push(episode);
     }

@@ -11,7 +11,8 @@
 //! | iteration k's env critic fit | stream `stream_id(k, EnvCriticFit)` | minibatch shuffles (`method = "adam"`), every net of the set in turn |
 //! | iteration k's guidance critic fit | stream `stream_id(k, GuidanceCriticFit)` | likewise |
 //! | the discriminator | none | one full-batch step per iteration |
-//! | the evaluation | none: reset seeds [`crate::episode::evaluation_seed`], the same at every iteration by design, mean actions | every evaluation |
+//! | the evaluation (`eval_initial_states = "fixed"`, the default) | none: reset seeds [`crate::episode::evaluation_seed`], the same at every iteration by design, mean actions | every evaluation |
+//! | iteration k's evaluation (`"fresh"`) | ChaCha8(seed), stream [`EVALUATION_STREAMS`] + k, apart from every id above | one `u64` reset seed per episode |
 //!
 //! Derived streams need no state in the checkpoint: a resumed run draws what an
 //! uninterrupted one does.
@@ -46,6 +47,17 @@ pub fn stream_id(iteration: usize, stream: Stream) -> u64 {
 pub fn generator(seed: u64, iteration: usize, stream: Stream) -> ChaCha8Rng {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(stream_id(iteration, stream));
+    rng
+}
+
+/// The first stream id of the fresh evaluations: far above any iteration's ids, so that
+/// adding them moved no other stream.
+pub const EVALUATION_STREAMS: u64 = 1 << 62;
+
+/// The generator of iteration `iteration`'s fresh evaluation reset seeds.
+pub fn evaluation(seed: u64, iteration: usize) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(EVALUATION_STREAMS + iteration as u64);
     rng
 }
 

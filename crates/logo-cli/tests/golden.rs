@@ -65,7 +65,8 @@ fn tensors(dir: &Path) -> String {
     out
 }
 
-fn check(name: &str, config: &str, iterations: &str, dtype: &str) {
+/// Trains `config` into a scratch folder; its metrics (timings removed) and tensors.
+fn train(name: &str, config: &str, iterations: &str, dtype: &str) -> (String, String) {
     let out = std::env::temp_dir().join(format!("logo-golden-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     let status = Command::new(env!("CARGO_BIN_EXE_logo"))
@@ -77,9 +78,14 @@ fn check(name: &str, config: &str, iterations: &str, dtype: &str) {
         .status()
         .unwrap();
     assert!(status.success(), "{name}: logo train failed");
-    let fixture = root().join("tests/golden").join(name);
     let (metrics, tensors) = (metrics(&out), tensors(&out));
     std::fs::remove_dir_all(&out).unwrap();
+    (metrics, tensors)
+}
+
+fn check(name: &str, config: &str, iterations: &str, dtype: &str) {
+    let (metrics, tensors) = train(name, config, iterations, dtype);
+    let fixture = root().join("tests/golden").join(name);
     if std::env::var_os("LOGO_GOLDEN_WRITE").is_some() {
         std::fs::create_dir_all(&fixture).unwrap();
         std::fs::write(fixture.join("metrics.csv"), &metrics).unwrap();
@@ -136,4 +142,39 @@ fn sparse_hopper_three_iterations_float64() {
 #[test]
 fn sparse_hopper_three_iterations_float32() {
     check("hopper-f32", "configs/logo/hopper.toml", "3", "f32");
+}
+
+/// `eval_initial_states = "fresh"` evaluates from new initial states each iteration on a
+/// stream of its own: every training column and every tensor stay the golden run's, and
+/// the evaluation columns change.
+#[test]
+fn fresh_evaluation_states_leave_training_as_it_was() {
+    let dir = std::env::temp_dir().join(format!("logo-golden-{}-fresh-config", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(root().join("configs/logo/inverted_double_pendulum.toml"))
+        .unwrap()
+        .replace("../../data/", &format!("{}/data/", root().display()));
+    let config = dir.join("fresh.toml");
+    std::fs::write(&config, format!("eval_initial_states = \"fresh\"\n{text}")).unwrap();
+    let (metrics, tensors) = train("fresh", config.to_str().unwrap(), "6", "f64");
+    std::fs::remove_dir_all(&dir).unwrap();
+    let fixture = root().join("tests/golden/idp-f64");
+    let golden = std::fs::read_to_string(fixture.join("metrics.csv")).unwrap();
+    let (got, want) = (columns(&metrics), columns(&golden));
+    for (column, values) in &want {
+        let ours = &got.iter().find(|(c, _)| c == column).unwrap().1;
+        if column.starts_with("eval_") {
+            assert_ne!(
+                ours, values,
+                "{column}: the fresh states evaluated the same"
+            );
+        } else {
+            assert_eq!(
+                ours, values,
+                "{column} changed with the evaluation's states"
+            );
+        }
+    }
+    let golden_tensors = std::fs::read_to_string(fixture.join("tensors.txt")).unwrap();
+    assert_eq!(tensors, golden_tensors);
 }

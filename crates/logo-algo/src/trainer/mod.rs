@@ -248,7 +248,7 @@ impl<E: Engine> Trainer<E> {
                 )
             },
             // 8, and batch k + 1 with π_{k+1}.
-            |acting| evaluator.timed(acting, evaluate_now),
+            |acting| evaluator.timed(acting, k, evaluate_now),
             |acting| collector.collect_if(collect_next, acting, samples),
         )?;
         Ok(Later {

@@ -8,17 +8,18 @@ use std::time::Instant;
 use logo_envs::{Env, ResetPoint, RngState, VecEnv};
 use logo_nn::flops::in_phase;
 use logo_nn::{ActingPolicy, Cpu, Discriminator, Engine, GaussianPolicy, Policy, ValueNet};
+use rand::RngCore;
 use rand_chacha::ChaCha8Rng;
 
 use super::schedule::Schedule;
-use crate::config::TrainConfig;
+use crate::config::{EvalInitialStates, TrainConfig};
 use crate::critic::CriticSet;
-use crate::episode::{Evaluation, evaluate};
+use crate::episode::{Evaluation, evaluate, evaluation_seed};
 use crate::guidance::Guidance;
 use crate::policy_update::UpdateState;
 use crate::run_dir::{RunDir, TrainError};
 use crate::sampler::{Batch, Sampler};
-use crate::streams::{Stream, generator};
+use crate::streams::{self, Stream, generator};
 use crate::tensorboard::EventWriter;
 
 pub struct Trainer<E: Engine> {
@@ -123,6 +124,7 @@ pub(super) struct Evaluator {
     pub(super) env: Box<dyn Env>,
     pub(super) seed: u64,
     pub(super) min_steps: usize,
+    pub(super) initial_states: EvalInitialStates,
 }
 
 impl Evaluator {
@@ -130,17 +132,29 @@ impl Evaluator {
     pub(super) fn timed(
         &mut self,
         policy: &ActingPolicy,
+        k: usize,
         due: bool,
     ) -> Result<(Option<Evaluation>, f64), TrainError> {
         let clock = Instant::now();
-        let evaluation = due.then(|| self.evaluate(policy)).transpose()?;
+        let evaluation = due.then(|| self.evaluate(policy, k)).transpose()?;
         Ok((evaluation, clock.elapsed().as_secs_f64()))
     }
 
-    pub(super) fn evaluate(&mut self, policy: &ActingPolicy) -> Result<Evaluation, TrainError> {
+    /// Iteration `k`'s evaluation, from the initial states `eval_initial_states` says.
+    pub(super) fn evaluate(
+        &mut self,
+        policy: &ActingPolicy,
+        k: usize,
+    ) -> Result<Evaluation, TrainError> {
         let (env, seed, min_steps) = (self.env.as_mut(), self.seed, self.min_steps);
+        let mut fresh = streams::evaluation(seed, k);
+        let initial_states = self.initial_states;
+        let reset_seed = move |episode| match initial_states {
+            EvalInitialStates::Fixed => evaluation_seed(seed, episode),
+            EvalInitialStates::Fresh => fresh.next_u64(),
+        };
         Ok(in_phase("evaluation", || {
-            evaluate(env, policy, seed, min_steps)
+            evaluate(env, policy, reset_seed, min_steps)
         })?)
     }
 }
