@@ -85,6 +85,8 @@ struct Episode {
 pub struct Sampler {
     pub mode: RolloutMode,
     episodes: Vec<Episode>,
+    /// `clip_actions`: each action's bounds (low, high), applied to what the env sees.
+    clip: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 impl Batch {
@@ -148,7 +150,16 @@ impl Sampler {
         Self {
             mode,
             episodes: vec![Episode::default(); num_envs],
+            clip: None,
         }
+    }
+
+    /// Clips every action to `[low, high]` before the env sees it; the batch keeps the
+    /// sampled action, whose log-probability the policy updates use (as Stable-Baselines3
+    /// and CleanRL clip).
+    pub fn clipping(mut self, low: &[f64], high: &[f64]) -> Self {
+        self.clip = Some((low.to_vec(), high.to_vec()));
+        self
     }
 
     /// Whether every copy stands at the start of an episode (between batches of
@@ -175,6 +186,7 @@ impl Sampler {
         let (n, obs_dim, act_dim) = (venv.num_envs(), venv.spec().obs_dim, venv.spec().act_dim);
         let quota = samples.div_ceil(n);
         let mode = self.mode;
+        let clip = self.clip.as_ref();
         let states: Vec<(Episode, u64)> = std::mem::take(&mut self.episodes)
             .into_iter()
             .map(|ep| (ep, rng.random()))
@@ -193,7 +205,15 @@ impl Sampler {
                 let action = acting.sample(obs, &mut rng);
                 ep.obs.extend_from_slice(obs);
                 ep.actions.extend_from_slice(&action);
-                let step = env.step(&action, obs)?;
+                let step = match clip {
+                    None => env.step(&action, obs)?,
+                    Some((low, high)) => {
+                        let clipped: Vec<f64> = (action.iter().zip(low).zip(high))
+                            .map(|((a, lo), hi)| a.clamp(*lo, *hi))
+                            .collect();
+                        env.step(&clipped, obs)?
+                    }
+                };
                 taken += 1;
                 ep.rewards.push(step.reward);
                 ep.dense.push(step.info.dense_reward);

@@ -61,7 +61,11 @@ impl<E: Engine> Trainer<E> {
         let collector = Collector {
             // The copies run on the trainer's pool, as every other phase does.
             venv: VecEnv::on_caller_pool(&factory, config.num_envs, config.seed)?,
-            sampler: Sampler::new(config.rollout, config.num_envs),
+            sampler: match config.clip_actions {
+                false => Sampler::new(config.rollout, config.num_envs),
+                true => Sampler::new(config.rollout, config.num_envs)
+                    .clipping(&spec.action_low, &spec.action_high),
+            },
             rng: streams::sampler(config.seed),
         };
         let engines = vec![EngineSpan {
