@@ -182,6 +182,8 @@ pub struct Run {
     pub env: Option<String>,
     /// (samples, the metric), in order, iterations where the metric is defined only.
     pub points: Vec<(f64, f64)>,
+    /// The run folder (None for an outside curve).
+    pub dir: Option<PathBuf>,
 }
 
 impl Run {
@@ -192,6 +194,7 @@ impl Run {
             seed: None,
             env: None,
             points,
+            dir: None,
         }
     }
 }
@@ -289,6 +292,7 @@ fn read_run(dir: &Path, metric: &Metric) -> Result<Run> {
         seed,
         env,
         points,
+        dir: Some(dir.to_path_buf()),
     })
 }
 

@@ -267,6 +267,9 @@ pub fn run(args: &SummaryArgs) -> Result<()> {
     if !args.no_intervals {
         print!("\n{}", intervals_table(&runs, &args.at, rule, &bootstrap));
     }
+    if let Some(table) = eval_json_table(&runs, &bootstrap)? {
+        print!("\n{table}");
+    }
     if let Some([a, b]) = args.compare.as_deref() {
         print!(
             "\n{}",
@@ -347,6 +350,85 @@ pub fn intervals_table(runs: &[Run], at: &[f64], rule: AtRule, bootstrap: &Boots
         out.push_str(&format!("| {} |\n", row.join(" | ")));
     }
     out
+}
+
+/// The numbers of a run's `eval.json` that the summary reports, in column order.
+const EVAL_JSON_COLUMNS: [(&str, &str, &str, &str); 5] = [
+    ("final: return", "final", "mean_action", "return"),
+    (
+        "final: dense return",
+        "final",
+        "mean_action",
+        "dense_return",
+    ),
+    ("final: dense, clipped", "final", "clipped", "dense_return"),
+    ("best: return", "best", "mean_action", "return"),
+    ("best: dense return", "best", "mean_action", "dense_return"),
+];
+
+/// The end-of-run evaluations (`eval.json`: 20 episodes from fresh initial states) of
+/// the runs that have one, per configuration: mean over seeds with its 95% interval, and
+/// the success rates; None where no run has one.
+pub fn eval_json_table(runs: &[Run], bootstrap: &Bootstrap) -> Result<Option<String>> {
+    let mut groups: BTreeMap<&str, Vec<serde_json::Value>> = BTreeMap::new();
+    for run in runs {
+        let Some(path) = run.dir.as_ref().map(|d| d.join("eval.json")) else {
+            continue;
+        };
+        if !path.is_file() {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let doc: serde_json::Value = serde_json::from_str(&text)
+            .map_err(|e| anyhow::anyhow!("{}: not an eval.json ({e})", path.display()))?;
+        groups
+            .entry(&run.group)
+            .or_default()
+            .push(doc["policies"].clone());
+    }
+    if groups.is_empty() {
+        return Ok(None);
+    }
+    let mut header = vec!["configuration".to_string(), "runs".to_string()];
+    header.extend(
+        EVAL_JSON_COLUMNS
+            .iter()
+            .map(|c| format!("{} [95% CI]", c.0)),
+    );
+    header.extend(["final: success".to_string(), "best: success".to_string()]);
+    let mut out = format!(
+        "End-of-run evaluations (eval.json: 20 episodes from fresh initial states, mean over \
+         seeds with 95% bootstrap intervals):\n\n| {} |\n|{}\n",
+        header.join(" | "),
+        " --- |".repeat(header.len())
+    );
+    for (group, docs) in groups {
+        let values = |policy: &str, acting: &str, key: &str| -> Vec<f64> {
+            docs.iter()
+                .filter_map(|d| d[policy][acting]["summary"][key].as_f64())
+                .collect()
+        };
+        let mut row = vec![group.to_string(), docs.len().to_string()];
+        for (_, policy, acting, key) in EVAL_JSON_COLUMNS {
+            let v = values(policy, acting, key);
+            row.push(match v.len() {
+                0 => "—".into(),
+                1 => format!("{:.0}", v[0]),
+                _ => interval(bootstrap.aggregate(&v, Aggregate::Mean)),
+            });
+        }
+        for policy in ["final", "best"] {
+            let v = values(policy, "mean_action", "success_rate");
+            row.push(if v.is_empty() {
+                "—".into()
+            } else {
+                format!("{:.0}%", 100.0 * logo_stats::mean(&v))
+            });
+        }
+        out.push_str(&format!("| {} |\n", row.join(" | ")));
+    }
+    Ok(Some(out))
 }
 
 /// Configuration `a` against `b` at each budget: P(a > b) and IQM(a) − IQM(b), each with
@@ -559,5 +641,42 @@ mod tests {
             e.to_string().contains("no configuration \"c\"") && e.to_string().contains("a, b"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn eval_json_files_become_a_table_of_final_and_best() {
+        let dir = std::env::temp_dir().join(format!("logo-summary-evals-{}", std::process::id()));
+        let mut runs = Vec::new();
+        for (seed, (ret, dense)) in [(1.0, 10.0), (3.0, 30.0)].into_iter().enumerate() {
+            let run_dir = dir.join(format!("seed{seed}"));
+            std::fs::create_dir_all(&run_dir).unwrap();
+            let summary = |r: f64, d: f64| serde_json::json!({"summary": {"return": r, "dense_return": d, "success_rate": 0.5}});
+            let doc = serde_json::json!({"policies": {
+                "final": {"mean_action": summary(ret, dense), "clipped": summary(ret, dense + 1.0)},
+                "best": {"mean_action": summary(ret + 1.0, dense), "clipped": summary(ret, dense)},
+            }});
+            std::fs::write(run_dir.join("eval.json"), doc.to_string()).unwrap();
+            let mut run = run("logo", &[(1.0, 1.0)]);
+            run.dir = Some(run_dir);
+            runs.push(run);
+        }
+        runs.push(run("outside", &[(1.0, 1.0)]));
+        let bootstrap = Bootstrap::with_reps(500);
+        let table = eval_json_table(&runs, &bootstrap).unwrap().unwrap();
+        let row = table.lines().find(|l| l.starts_with("| logo |")).unwrap();
+        let final_return = interval(bootstrap.aggregate(&[1.0, 3.0], Aggregate::Mean));
+        assert!(
+            row.starts_with(&format!("| logo | 2 | {final_return} |")),
+            "{row}"
+        );
+        assert!(row.ends_with("| 50% | 50% |"), "{row}");
+        assert!(!table.contains("outside"), "{table}");
+        std::fs::write(dir.join("seed0/eval.json"), "{").unwrap();
+        let e = eval_json_table(&runs, &bootstrap).unwrap_err().to_string();
+        assert!(
+            e.contains("seed0/eval.json") && e.contains("not an eval.json"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
