@@ -61,11 +61,7 @@ impl<E: Engine> Trainer<E> {
         let collector = Collector {
             // The copies run on the trainer's pool, as every other phase does.
             venv: VecEnv::on_caller_pool(&factory, config.num_envs, config.seed)?,
-            sampler: match config.clip_actions {
-                false => Sampler::new(config.rollout, config.num_envs),
-                true => Sampler::new(config.rollout, config.num_envs)
-                    .clipping(&spec.action_low, &spec.action_high),
-            },
+            sampler: sampler(&config, &spec),
             rng: streams::sampler(config.seed),
         };
         let engines = vec![EngineSpan {
@@ -120,6 +116,15 @@ impl Evaluator {
             min_steps: config.eval_steps,
             initial_states: config.eval_initial_states,
         })
+    }
+}
+
+/// Step 1's sampler: `clip_actions` clips what the env sees to the action space.
+fn sampler(config: &TrainConfig, spec: &EnvSpec) -> Sampler {
+    let sampler = Sampler::new(config.rollout, config.num_envs);
+    match config.clip_actions {
+        true => sampler.clipping(&spec.action_low, &spec.action_high),
+        false => sampler,
     }
 }
 
