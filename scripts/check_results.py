@@ -35,6 +35,15 @@ holds seed*/ runs, and a .csv path is one run):
                                   below, else "mixed, K of N above"; then "(MEAN vs
                                   CURVE)". Until a row has N seeds that reach the budget
                                   (GROUP "-": none yet), its cell must hold no verdict.
+  intervals rows=GROUP;...        `logo summary`'s interval table: per group and column
+           window=W               ("final: mean [95% CI]", "at 2.00M: IQM [95% CI]"), the
+                                  mean or interquartile mean over seeds of each run's value
+                                  (final evaluation, or the mean of its W evaluations
+                                  nearest the budget), exact as printed; each interval end
+                                  within 5% of the seeds' range of a percentile bootstrap
+                                  recomputed here (20,000 resamples; the document's come
+                                  from logo-stats' own stream, so only Monte-Carlo error
+                                  may separate them)
   cells    rXcY=STAT@GROUP ...    single cells (X, Y 1-based over body rows and columns)
            [quoted=...]
   evals    runs=PATH;PATH;...     one row per run: its eval-20.txt (`logo eval` output),
@@ -149,6 +158,28 @@ def window_at(points, x, n):
         return None
     nearest = sorted(points, key=lambda p: (abs(p[0] - x), -p[0]))[:n]
     return statistics.fmean(y for _, y in nearest)
+
+
+def iqm(values):
+    """Interquartile mean: drop floor(n/4) values at each end (scipy's trim_mean 0.25)."""
+    v = sorted(values)
+    cut = len(v) // 4
+    return statistics.fmean(v[cut:len(v) - cut])
+
+
+def bootstrap_interval(values, stat, reps=20_000, seed=0):
+    """95% percentile bootstrap interval of stat over values (numpy's linear quantiles)."""
+    import random
+    rng = random.Random(seed)
+    n = len(values)
+    draws = sorted(stat([values[rng.randrange(n)] for _ in range(n)]) for _ in range(reps))
+
+    def quantile(q):
+        h = (len(draws) - 1) * q
+        lo = math.floor(h)
+        return draws[lo] + (h - lo) * (draws[min(lo + 1, len(draws) - 1)] - draws[lo])
+
+    return quantile(0.025), quantile(0.975)
 
 
 def late_mean(points):
@@ -429,6 +460,28 @@ def check_table(kind, opts, header, body):
                 computed = f"{word} ({statistics.fmean(values)!r} vs {ref!r})"
                 if body[r][c].split("(")[0].strip() != word or not agrees(body[r][c], computed):
                     wrong.append((r + 1, header[c], body[r][c], computed))
+    elif kind == "intervals":
+        window = int(opts["window"])
+        for r, group in enumerate(opts["rows"].split(";")):
+            runs = [evaluations(rows) for rows in group_runs(group)]
+            for c in range(2, len(header)):
+                m = re.fullmatch(r"(final|at (.+?)): (mean|IQM) \[95% CI\]", header[c].strip())
+                if not m:
+                    raise SystemExit(f"intervals: column {header[c]!r} is not `logo summary`'s")
+                x = None if m.group(1) == "final" else parse_samples(m.group(2))
+                values = [p[-1][1] if x is None else window_at(p, x, window) for p in runs]
+                values = [v for v in values if v is not None]
+                stat = statistics.fmean if m.group(3) == "mean" else iqm
+                point = stat(values)
+                lo, hi = bootstrap_interval(values, stat)
+                doc = numbers(body[r][c])
+                checked += 1
+                spread = max(values) - min(values)
+                ok = len(doc) >= 3 and abs(doc[0][0] - point) <= 0.5 * doc[0][1] + 1e-9 and all(
+                    abs(d - e) <= 0.05 * spread + 0.5 * unit for (d, unit), e in zip(doc[1:3], (lo, hi))
+                )
+                if not ok:
+                    wrong.append((r + 1, header[c], body[r][c], f"{point:.0f} [{lo:.0f}, {hi:.0f}]"))
     elif kind == "cells":
         for key, spec in opts.items():
             m = re.fullmatch(r"r(\d+)c(\d+)", key)
