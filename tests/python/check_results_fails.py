@@ -50,6 +50,13 @@ VERDICTS = f"""<!-- check verdicts seeds=3 window=10 rows=paper-scale/hopper/hop
 | Hopper | not run | — | — |
 """
 
+# `logo summary`'s interval table: points exact, interval ends near a bootstrap's.
+INTERVALS = """<!-- check intervals window=10 rows=paper-scale/hopper/hopper -->
+| configuration | seeds | final: mean [95% CI] | at 10.00M: IQM [95% CI] |
+| --- | --- | --- | --- |
+| LOGO | 3 | 2554 [1612, 3120] | 2518 [1441, 3141] |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -62,7 +69,8 @@ def check(text):
 
 def main():
     failures = []
-    for good in (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED):
+    goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS)
+    for good in goods:
         code, out = check(good)
         if code != 0:
             failures.append(f"a correct table failed:\n{out}")
@@ -77,6 +85,9 @@ def main():
         "a wrong episode length": EVALS.replace("| 1000 |", "| 999 |"),
         "the unclipped evaluation's numbers": CLIPPED.replace("1467 ± 763", "537 ± 1931"),
         "a missing eval file": EVALS.replace("seed1 -->", "seed1 file=eval-20-clipped.txt -->"),
+        "a wrong interval mean": INTERVALS.replace("2554 [", "2560 ["),
+        "a wrong interval end": INTERVALS.replace("[1441, 3141]", "[1200, 3141]"),
+        "a column summary does not print": INTERVALS.replace("IQM [95% CI]", "median [95% CI]"),
         "a wrong verdict": VERDICTS.replace("ahead (1677", "behind (1677"),
         "a wrong count of seeds above": VERDICTS.replace("2 of 3", "1 of 3"),
         "a wrong mean beside a verdict": VERDICTS.replace("2518 vs", "2600 vs"),
@@ -96,7 +107,7 @@ def main():
     if failures:
         print("\n".join(failures))
         return 1
-    print(f"check_results.py: 6 correct tables pass, {len(cases)} wrong ones fail")
+    print(f"check_results.py: {len(goods)} correct tables pass, {len(cases)} wrong ones fail")
     return 0
 
 
