@@ -465,10 +465,13 @@ def check_table(kind, opts, header, body):
         for r, group in enumerate(opts["rows"].split(";")):
             runs = [evaluations(rows) for rows in group_runs(group)]
             for c in range(2, len(header)):
-                m = re.fullmatch(r"(final|at (.+?)): (mean|IQM) \[95% CI\]", header[c].strip())
+                m = re.fullmatch(r"(final|at (.+?)(?:, mean of \d+)?): (mean|IQM) \[95% CI\]",
+                                 header[c].strip())
                 if not m:
                     raise SystemExit(f"intervals: column {header[c]!r} is not `logo summary`'s")
                 x = None if m.group(1) == "final" else parse_samples(m.group(2))
+                if m.group(1) != "final" and x is None:
+                    raise SystemExit(f"intervals: no sample count in column {header[c]!r}")
                 values = [p[-1][1] if x is None else window_at(p, x, window) for p in runs]
                 values = [v for v in values if v is not None]
                 stat = statistics.fmean if m.group(3) == "mean" else iqm

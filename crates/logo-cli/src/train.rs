@@ -216,6 +216,13 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
                 dir.display(),
                 trainer.iteration()
             );
+            // The evaluation of an earlier end: the new end writes its own.
+            if !trainer.done() {
+                let stale = dir.join("eval.json");
+                if stale.is_file() {
+                    std::fs::remove_file(&stale).with_context(|| format!("{}", stale.display()))?;
+                }
+            }
             (trainer, dir)
         }
     };
@@ -293,6 +300,10 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
             "nothing to do: the run in {} has done its {total} iterations (--iterations extends it)",
             out.display()
         );
+        // A run that ended before its evaluation was written (killed, or older than it).
+        if !out.join("eval.json").is_file() {
+            end_of_run_evaluation(&trainer, &out)?;
+        }
         return Ok(());
     };
     println!(

@@ -323,6 +323,16 @@ impl<E: Engine> Trainer<E> {
             .map(|row| row.eval_return)
             .filter(|r| r.is_finite())
             .reduce(f64::max);
+        // A best policy from an iteration after the checkpoint belongs to iterations
+        // this resume redoes: it goes, and they write it again if they earn it.
+        let best = self.run.best_path();
+        if best.is_file() {
+            let later =
+                Checkpoint::load(&best).map_or(true, |b| b.meta.iteration > state.iteration as u64);
+            if later {
+                std::fs::remove_file(&best).map_err(|e| format!("{}: {e}", best.display()))?;
+            }
+        }
         Ok(())
     }
 

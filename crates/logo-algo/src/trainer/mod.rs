@@ -276,15 +276,17 @@ impl<E: Engine> Trainer<E> {
             events.append(&row)?;
         }
         self.next_batch = later.next;
-        if self.iteration.is_multiple_of(self.config.checkpoint_every) || self.done() {
-            self.save_checkpoint(&self.run.checkpoint_path())?;
-            self.saved_at = Some(self.iteration);
-        }
         // The best policy: the first to reach the highest evaluation of the trained
         // task's own return (sparse on a sparse task: the dense one is for reporting).
+        // Written before the checkpoint, which then vouches for it: a resume recomputes
+        // the best from the rows the checkpoint keeps.
         if row.eval_return.is_finite() && self.best_return.is_none_or(|b| row.eval_return > b) {
             self.save_checkpoint(&self.run.best_path())?;
             self.best_return = Some(row.eval_return);
+        }
+        if self.iteration.is_multiple_of(self.config.checkpoint_every) || self.done() {
+            self.save_checkpoint(&self.run.checkpoint_path())?;
+            self.saved_at = Some(self.iteration);
         }
         Ok(row)
     }
