@@ -298,6 +298,11 @@ impl TrainConfig {
         Ok(())
     }
 
+    /// The env every evaluation runs on: `eval_env`, else the trained task itself.
+    pub fn evaluated_env(&self) -> &str {
+        self.eval_env.as_deref().unwrap_or(&self.env)
+    }
+
     pub fn eval_env_id(&self) -> String {
         self.eval_env.clone().unwrap_or_else(|| {
             self.env

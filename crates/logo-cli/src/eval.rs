@@ -232,7 +232,7 @@ pub fn run(args: &EvalArgs) -> Result<()> {
 }
 
 /// `--clip-actions`: each component into `[low, high]`.
-fn clip_to_range(action: &mut [f64], low: &[f64], high: &[f64]) {
+pub(crate) fn clip_to_range(action: &mut [f64], low: &[f64], high: &[f64]) {
     for ((a, &lo), &hi) in action.iter_mut().zip(low).zip(high) {
         *a = a.clamp(lo, hi);
     }

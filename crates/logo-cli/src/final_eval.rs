@@ -51,9 +51,7 @@ pub fn play(
             let episode = run_episode(env.as_mut(), final_evaluation_seed(seed, k), |obs| {
                 let mut action = policy.mean(obs);
                 if acting == Acting::MeanClipped {
-                    for ((a, lo), hi) in action.iter_mut().zip(&low).zip(&high) {
-                        *a = a.clamp(*lo, *hi);
-                    }
+                    crate::eval::clip_to_range(&mut action, &low, &high);
                 }
                 action
             })?;

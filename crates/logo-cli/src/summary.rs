@@ -187,12 +187,8 @@ pub fn table(runs: &[Run], at: &[f64], rule: AtRule, threshold: Option<f64>) -> 
         "samples at peak (median)".into(),
         "mean of last 10%".into(),
     ];
-    for &x in at {
-        header.push(match rule {
-            AtRule::Interpolate => format!("at {}", thousands(x)),
-            AtRule::Window(n) => format!("at {}, mean of {n}", thousands(x)),
-        });
-    }
+    // The budget columns, named as the interval table names them (without "final").
+    header.extend(budget_names(at, rule).into_iter().skip(1));
     if let Some(t) = threshold {
         header.push(format!("seeds ≥ {t} (median samples)"));
     }

@@ -322,7 +322,7 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
 fn end_of_run_evaluation<E: Engine>(trainer: &Trainer<E>, out: &Path) -> Result<()> {
     let config = &trainer.config;
     let engine = trainer.engine();
-    let env = config.eval_env.as_deref().unwrap_or(&config.env);
+    let env = config.evaluated_env();
     let (seed, episodes) = (config.seed, final_eval::EPISODES);
     let acting = trainer.policy().acting(engine);
     let mut policies = vec![(

@@ -144,16 +144,24 @@ fn sparse_hopper_three_iterations_float32() {
     check("hopper-f32", "configs/logo/hopper.toml", "3", "f32");
 }
 
+/// A scratch folder for variants of a shipped config, and that config's text with its
+/// data paths made absolute (the variants are written elsewhere than configs/).
+fn shipped_config(name: &str, config: &str) -> (PathBuf, String) {
+    let dir =
+        std::env::temp_dir().join(format!("logo-golden-{}-{name}-config", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(root().join(config))
+        .unwrap()
+        .replace("../../data/", &format!("{}/data/", root().display()));
+    (dir, text)
+}
+
 /// `eval_initial_states = "fresh"` evaluates from new initial states each iteration on a
 /// stream of its own: every training column and every tensor stay the golden run's, and
 /// the evaluation columns change.
 #[test]
 fn fresh_evaluation_states_leave_training_as_it_was() {
-    let dir = std::env::temp_dir().join(format!("logo-golden-{}-fresh-config", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string(root().join("configs/logo/inverted_double_pendulum.toml"))
-        .unwrap()
-        .replace("../../data/", &format!("{}/data/", root().display()));
+    let (dir, text) = shipped_config("fresh", "configs/logo/inverted_double_pendulum.toml");
     let config = dir.join("fresh.toml");
     std::fs::write(&config, format!("eval_initial_states = \"fresh\"\n{text}")).unwrap();
     let (metrics, tensors) = train("fresh", config.to_str().unwrap(), "6", "f64");
@@ -186,12 +194,8 @@ fn fresh_evaluation_states_leave_training_as_it_was() {
 /// return it reports is higher, by the out-of-range part of the control cost.
 #[test]
 fn clipping_actions_changes_no_sparse_training() {
-    let dir = std::env::temp_dir().join(format!("logo-golden-{}-clip-config", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string(root().join("configs/logo/hopper.toml"))
-        .unwrap()
-        .replace("../../data/", &format!("{}/data/", root().display()))
-        .replace("samples_per_iter = 20000", "samples_per_iter = 4000");
+    let (dir, text) = shipped_config("clip", "configs/logo/hopper.toml");
+    let text = text.replace("samples_per_iter = 20000", "samples_per_iter = 4000");
     let (plain, clipped) = (dir.join("plain.toml"), dir.join("clipped.toml"));
     std::fs::write(&plain, &text).unwrap();
     std::fs::write(&clipped, format!("clip_actions = true\n{text}")).unwrap();

@@ -100,8 +100,7 @@ impl Evaluator {
     /// wrapper leaves the dynamics and the dense reward as they are), unless `eval_env`
     /// names another.
     fn new(config: &TrainConfig, spec: &EnvSpec) -> Result<Self, TrainError> {
-        let id = config.eval_env.as_deref().unwrap_or(&config.env);
-        let env = EnvFactory::new(id, &EnvOptions::default())?.build();
+        let env = EnvFactory::new(config.evaluated_env(), &EnvOptions::default())?.build();
         if env.spec().obs_dim != spec.obs_dim || env.spec().act_dim != spec.act_dim {
             return Err(format!(
                 "eval_env {} does not have the dims of env {}",
