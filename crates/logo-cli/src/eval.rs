@@ -14,6 +14,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::engine::{EngineArgs, WithEngine};
+use crate::final_eval::clip_to_range;
 use crate::video::{Video, VideoArgs};
 use logo_algo::episode::{Episode, run_episode_with};
 use logo_stats::mean_std;
@@ -229,13 +230,6 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// `--clip-actions`: each component into `[low, high]`.
-pub(crate) fn clip_to_range(action: &mut [f64], low: &[f64], high: &[f64]) {
-    for ((a, &lo), &hi) in action.iter_mut().zip(low).zip(high) {
-        *a = a.clamp(lo, hi);
-    }
 }
 
 /// Where an episode first moved `metres` forward (`--split-at`).

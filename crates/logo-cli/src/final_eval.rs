@@ -51,13 +51,20 @@ pub fn play(
             let episode = run_episode(env.as_mut(), final_evaluation_seed(seed, k), |obs| {
                 let mut action = policy.mean(obs);
                 if acting == Acting::MeanClipped {
-                    crate::eval::clip_to_range(&mut action, &low, &high);
+                    clip_to_range(&mut action, &low, &high);
                 }
                 action
             })?;
             Ok(episode)
         })
         .collect()
+}
+
+/// `--clip-actions` and the clipped evaluation: each component into `[low, high]`.
+pub(crate) fn clip_to_range(action: &mut [f64], low: &[f64], high: &[f64]) {
+    for ((a, &lo), &hi) in action.iter_mut().zip(low).zip(high) {
+        *a = a.clamp(lo, hi);
+    }
 }
 
 /// Means over the episodes, and the success rate: the share of episodes whose own return
