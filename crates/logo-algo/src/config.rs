@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use logo_envs::EnvConfig;
 use logo_nn::DiscriminatorInit;
 
 use crate::critic::CriticConfig;
@@ -16,11 +17,14 @@ use crate::validate::{MAX_ENVS, MAX_SAMPLES_PER_ITER, check_positive, check_widt
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrainConfig {
-    /// Training env id, e.g. `SparseInvertedDoublePendulum-v4`.
-    pub env: String,
-    /// Evaluation env id; default: `env` itself, reporting the dense return beside its
-    /// own. [`TrainConfig::eval_env_id`] names the dense task for videos and `logo eval`.
-    pub eval_env: Option<String>,
+    /// The trained task: an env id (`env = "SparseInvertedDoublePendulum-v4"`), or a
+    /// dense id with the rule that makes it sparse (`[env]`, `id`, `sparse = { kind =
+    /// "distance", threshold = 2.0 }`; see [`EnvConfig`]).
+    pub env: EnvConfig,
+    /// Evaluation env, in either form; default: `env` itself, reporting the dense return
+    /// beside its own. [`TrainConfig::eval_env_id`] names the dense task for videos and
+    /// `logo eval`.
+    pub eval_env: Option<EnvConfig>,
     #[serde(default)]
     pub seed: u64,
     pub iterations: usize,
@@ -272,6 +276,10 @@ impl TrainConfig {
         if let Some((key, value, max)) = at_most.iter().find(|(_, v, max)| v > max) {
             return Err(format!("{key} must be at most {max}, got {value}"));
         }
+        self.env.validate("env")?;
+        if let Some(env) = &self.eval_env {
+            env.validate("eval_env")?;
+        }
         check_positive("max_kl", self.max_kl, false)?;
         if !(-20.0..=5.0).contains(&self.log_std_init) {
             return Err(format!(
@@ -299,17 +307,17 @@ impl TrainConfig {
     }
 
     /// The env every evaluation runs on: `eval_env`, else the trained task itself.
-    pub fn evaluated_env(&self) -> &str {
-        self.eval_env.as_deref().unwrap_or(&self.env)
+    pub fn evaluated_env(&self) -> &EnvConfig {
+        self.eval_env.as_ref().unwrap_or(&self.env)
     }
 
+    /// The registry id of the task a person watches (videos, `logo eval`): `eval_env`,
+    /// else the trained task's dense form.
     pub fn eval_env_id(&self) -> String {
-        self.eval_env.clone().unwrap_or_else(|| {
-            self.env
-                .strip_prefix("Sparse")
-                .unwrap_or(&self.env)
-                .to_string()
-        })
+        match &self.eval_env {
+            Some(env) => env.env_id().unwrap_or_else(|_| env.id.clone()),
+            None => self.env.dense_id().to_string(),
+        }
     }
 
     /// The guidance step's kind: `[guidance.update]`, else the improvement step's.

@@ -34,10 +34,7 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
         for entry in std::fs::read_dir(&folder).unwrap() {
             let path = entry.unwrap().path();
             let config = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
-            let spec = EnvFactory::new(&config.env, &EnvOptions::default())
-                .unwrap()
-                .spec()
-                .clone();
+            let spec = config.env.factory().unwrap().spec().clone();
             EnvFactory::new(&config.eval_env_id(), &EnvOptions::default()).unwrap();
             if algo != "experiments" && algo != "behaviour" {
                 assert_eq!(

@@ -210,10 +210,29 @@ fn inspect(args: &InspectArgs) -> Result<()> {
     Ok(())
 }
 
+/// A Minari dataset name for an env id: lower case, a sparse rule's `+kind(value)`
+/// spelled with dashes (`hopper-v4-distance-5`).
+fn dataset_name(env_id: &str) -> String {
+    let name: String = env_id
+        .to_lowercase()
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '.' {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    name.trim_end_matches('-').to_string()
+}
+
 fn record(args: &RecordArgs) -> Result<()> {
     anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
     let (policy, meta) = load_policy(&args.policy)?;
-    let sparse_requested = args.env.starts_with("Sparse");
+    // A sparse id records its own rewards; a dense one the dense rewards, with the sparse
+    // returns of LOGO's rule for the task beside them.
+    let sparse_requested = logo_envs::dense_id(&args.env) != args.env;
     let sparse_id = if sparse_requested {
         args.env.clone()
     } else {
@@ -283,7 +302,7 @@ fn record(args: &RecordArgs) -> Result<()> {
         "dataset_id".into(),
         args.dataset_id
             .clone()
-            .unwrap_or_else(|| format!("logo/{}-recorded-v0", args.env.to_lowercase()))
+            .unwrap_or_else(|| format!("logo/{}-recorded-v0", dataset_name(&args.env)))
             .into(),
     );
     m.insert(

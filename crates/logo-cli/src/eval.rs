@@ -128,14 +128,16 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         .map(|span| format!("{} from iteration {}", span.engine, span.from_iteration))
         .collect::<Vec<_>>()
         .join(", ");
-    let dense_id = meta
-        .env_id
-        .strip_prefix("Sparse")
-        .unwrap_or(&meta.env_id)
-        .to_string();
+    // The dense task, and the sparse one trained on (LOGO's for a dense checkpoint).
+    let dense_id = logo_envs::dense_id(&meta.env_id).to_string();
+    let sparse_id = if meta.env_id == dense_id {
+        format!("Sparse{dense_id}")
+    } else {
+        meta.env_id.clone()
+    };
     let ids = match &args.env {
         Some(id) => vec![id.clone()],
-        None => vec![dense_id.clone(), format!("Sparse{dense_id}")],
+        None => vec![dense_id.clone(), sparse_id],
     };
     let acts = format!(
         "{}{}",

@@ -253,7 +253,7 @@ pub fn curves(runs: &[Run], window: usize, points: usize, band: &Band) -> Result
 
 /// The LOGO paper's behaviour and expert levels (docs/reference.md, Figure 1) by env.
 fn paper_lines(env: &str) -> Option<[(String, f64); 2]> {
-    let name = env.strip_prefix("Sparse").unwrap_or(env);
+    let name = logo_envs::dense_id(env);
     let (behaviour, expert) = match name.split('-').next()? {
         "Hopper" => (1380.0, 3400.0),
         "HalfCheetah" => (2650.0, 4500.0),

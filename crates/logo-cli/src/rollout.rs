@@ -6,7 +6,7 @@ use logo_algo::episode::run_episode_with;
 use logo_stats::mean_std;
 
 use crate::video::{Video, VideoArgs};
-use logo_envs::{EnvFactory, EnvOptions, all_env_ids};
+use logo_envs::{EnvFactory, EnvOptions, SPARSE_KINDS, all_env_ids};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -20,11 +20,17 @@ pub fn list_envs() -> Result<()> {
         let spec = factory.spec();
         let rule = factory
             .sparse_rule()
-            .map_or("-".to_string(), |r| format!("{r:?}"));
+            .map_or("-".to_string(), |r| r.describe());
         println!(
             "{:32} {:>4} {:>4} {:>9}  {rule}",
             spec.id, spec.obs_dim, spec.act_dim, spec.max_episode_steps
         );
+    }
+    println!("\nSparse kinds: any dense id above made sparse by a config's [env] table");
+    println!("(id = \"Hopper-v4\", sparse = {{ kind = \"distance\", threshold = 2.0 }}),");
+    println!("or on the command line as <id>+<kind>, e.g. Hopper-v4+distance(5):");
+    for (kind, parameters, pays) in SPARSE_KINDS {
+        println!("  {kind:10} {parameters:28} {pays}");
     }
     Ok(())
 }

@@ -286,7 +286,13 @@ fn read_run(dir: &Path, metric: &Metric) -> Result<Run> {
     let env = std::fs::read_to_string(dir.join("config.toml"))
         .ok()
         .and_then(|t| t.parse::<toml::Table>().ok())
-        .and_then(|t| t.get("env").and_then(|e| e.as_str()).map(String::from));
+        .and_then(|t| {
+            t.get("env")?
+                .clone()
+                .try_into::<logo_envs::EnvConfig>()
+                .ok()
+        })
+        .and_then(|env| env.env_id().ok());
     Ok(Run {
         group,
         seed,

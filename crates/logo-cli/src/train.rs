@@ -234,10 +234,10 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
     }
     let config = trainer.config.clone();
     println!(
-        "{} on {} (eval: {}), {} iterations x {} samples, seed {}, {} envs on {} threads, {} -> {}",
+        "{} on {} (evaluated on {}), {} iterations x {} samples, seed {}, {} envs on {} threads, {} -> {}",
         config.algorithm(),
         config.env,
-        config.eval_env_id(),
+        config.evaluated_env(),
         config.iterations,
         config.samples_per_iter,
         config.seed,
@@ -322,7 +322,8 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
 fn end_of_run_evaluation<E: Engine>(trainer: &Trainer<E>, out: &Path) -> Result<()> {
     let config = &trainer.config;
     let engine = trainer.engine();
-    let env = config.evaluated_env();
+    let env_id = config.evaluated_env().env_id()?;
+    let env = env_id.as_str();
     let (seed, episodes) = (config.seed, final_eval::EPISODES);
     let acting = trainer.policy().acting(engine);
     let mut policies = vec![(

@@ -84,6 +84,18 @@ fn stderr_line(out: &Output) -> String {
     err
 }
 
+/// `config` with its `env = ...` line replaced by an `[env]` table of `id` and `sparse`.
+fn env_table(config: &str, id: &str, sparse: &str) -> String {
+    let kept: Vec<&str> = config
+        .lines()
+        .filter(|line| !line.starts_with("env = "))
+        .collect();
+    format!(
+        "{}\n[env]\nid = \"{id}\"\nsparse = {sparse}\n",
+        kept.join("\n")
+    )
+}
+
 #[test]
 fn config_errors_name_the_file_and_the_key() {
     let dir = scratch("config");
@@ -124,6 +136,32 @@ fn config_errors_name_the_file_and_the_key() {
                 "warmup = 0\n[guidance.update]\nkind = \"ppo-clip\"\nepochs = 0",
             ),
             "guidance.update.epochs",
+        ),
+        // The env as a table: an unknown sparse kind, a missing parameter, a rule on an
+        // id that is sparse already, an id that is not one.
+        (
+            env_table(TINY, "InvertedDoublePendulum-v4", "{ kind = \"goal\" }"),
+            "unknown sparse kind \"goal\"",
+        ),
+        (
+            env_table(TINY, "InvertedDoublePendulum-v4", "{ kind = \"distance\" }"),
+            "needs `threshold`",
+        ),
+        (
+            env_table(
+                TINY,
+                "SparseInvertedDoublePendulum-v4",
+                "{ kind = \"delayed\" }",
+            ),
+            "env: invalid option: SparseInvertedDoublePendulum-v4 is already sparse",
+        ),
+        (
+            env_table(TINY, "Pendulum-v4", "{ kind = \"delayed\" }"),
+            "env: unknown environment id \"Pendulum-v4\"",
+        ),
+        (
+            TINY.replace("iterations = 2", "iterations = 2\neval_env = \"Ant-v4\""),
+            "eval_env: unknown environment id",
         ),
     ];
     for (i, (text, key)) in cases.iter().enumerate() {
@@ -636,4 +674,42 @@ fn a_checkpoint_from_one_engine_resumes_and_evaluates_on_another() {
     };
     let (a, b) = (dense(&stdout), dense(&on_f64));
     assert!((a - b).abs() <= 1e-3 * b.abs().max(1.0), "f32 {a}, f64 {b}");
+}
+
+/// A run on a sparse kind that is not LOGO's rule: its checkpoint names the env as
+/// `<id>+<rule>`, which `logo eval` rebuilds, and `--resume` goes on from it.
+#[test]
+fn a_sparse_kind_of_the_config_is_evaluated_and_resumed_as_trained() {
+    let (dir, _) = tiny_run("kind");
+    let config = dir.join("kind.toml");
+    let sparse = "{ kind = \"distance\", threshold = 0.5 }";
+    std::fs::write(
+        &config,
+        env_table(TINY, "InvertedDoublePendulum-v4", sparse),
+    )
+    .unwrap();
+    let run = dir.join("run").to_str().unwrap().to_string();
+    let stdout = succeed(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
+    assert!(
+        stdout.contains("InvertedDoublePendulum-v4 (sparse: distance(0.5))"),
+        "{stdout}"
+    );
+    let written = std::fs::read_to_string(dir.join("run/config.toml")).unwrap();
+    assert!(written.contains("kind = \"distance\""), "{written}");
+    let checkpoint = dir.join("run/checkpoint.safetensors");
+    let stdout = succeed(&[
+        "eval",
+        "--checkpoint",
+        checkpoint.to_str().unwrap(),
+        "--episodes",
+        "2",
+    ]);
+    assert!(
+        stdout.contains("InvertedDoublePendulum-v4+distance(0.5)"),
+        "{stdout}"
+    );
+    succeed(&["train", "--resume", &run, "--iterations", "3"]);
+    let rows = std::fs::read_to_string(dir.join("run/metrics.csv")).unwrap();
+    assert_eq!(rows.lines().count(), 4, "{rows}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -84,8 +84,13 @@ fn train(name: &str, config: &str, iterations: &str, dtype: &str) -> (String, St
 }
 
 fn check(name: &str, config: &str, iterations: &str, dtype: &str) {
+    check_against(name, name, config, iterations, dtype);
+}
+
+/// Trains `config` as `name` and compares it with the golden run `fixture`.
+fn check_against(fixture: &str, name: &str, config: &str, iterations: &str, dtype: &str) {
     let (metrics, tensors) = train(name, config, iterations, dtype);
-    let fixture = root().join("tests/golden").join(name);
+    let fixture = root().join("tests/golden").join(fixture);
     if std::env::var_os("LOGO_GOLDEN_WRITE").is_some() {
         std::fs::create_dir_all(&fixture).unwrap();
         std::fs::write(fixture.join("metrics.csv"), &metrics).unwrap();
@@ -214,5 +219,44 @@ fn clipping_actions_changes_no_sparse_training() {
         } else {
             assert_eq!(values, others, "{column} changed with clip_actions");
         }
+    }
+}
+
+/// The LOGO ids' rules given as config kinds (`[env]` with `id` and `sparse`) train to the
+/// golden runs of the `Sparse<id>` names, row for row and tensor for tensor.
+#[test]
+fn sparse_kinds_in_the_config_train_as_the_logo_ids() {
+    let cases = [
+        (
+            "idp-f64",
+            "configs/logo/inverted_double_pendulum.toml",
+            "InvertedDoublePendulum-v4",
+            "{ kind = \"delayed\" }",
+            "6",
+        ),
+        (
+            "hopper-f64",
+            "configs/logo/hopper.toml",
+            "Hopper-v4",
+            "{ kind = \"distance\", threshold = 2.0 }",
+            "3",
+        ),
+    ];
+    for (fixture, shipped, id, sparse, iterations) in cases {
+        let name = format!("{fixture}-kind");
+        let (dir, text) = shipped_config(&name, shipped);
+        let kept: Vec<&str> = text.lines().filter(|l| !l.starts_with("env = ")).collect();
+        assert!(
+            kept.len() < text.lines().count(),
+            "{shipped} has no env line"
+        );
+        let config = dir.join("kind.toml");
+        let table = format!(
+            "{}\n[env]\nid = \"{id}\"\nsparse = {sparse}\n",
+            kept.join("\n")
+        );
+        std::fs::write(&config, table).unwrap();
+        check_against(fixture, &name, config.to_str().unwrap(), iterations, "f64");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

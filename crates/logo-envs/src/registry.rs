@@ -10,7 +10,9 @@ use crate::mujoco_env::{MujocoEnv, Task, load_model};
 use crate::sparse::{SparseReward, SparseRule};
 use crate::{HalfCheetah, Hopper, InvertedDoublePendulum, Walker2d};
 
-/// The dense environments; each also exists as `Sparse<id>` (e.g. `SparseHopper-v4`).
+/// The dense environments. Each also exists as `Sparse<id>` (e.g. `SparseHopper-v4`),
+/// with LOGO's rule for that task, and as `<id>+<rule>` with any [`SparseRule`]
+/// (`Hopper-v4+distance(5)`, `HalfCheetah-v4+delayed`).
 pub const BASE_ENV_IDS: [&str; 8] = [
     "Hopper-v4",
     "Hopper-v5",
@@ -22,7 +24,7 @@ pub const BASE_ENV_IDS: [&str; 8] = [
     "InvertedDoublePendulum-v5",
 ];
 
-/// Every id [`make`] accepts: the dense ones, then their sparse versions.
+/// Every id [`make`] accepts by name: the dense ones, then their LOGO sparse versions.
 pub fn all_env_ids() -> Vec<String> {
     let dense = BASE_ENV_IDS.iter().map(|id| id.to_string());
     let sparse = BASE_ENV_IDS.iter().map(|id| format!("Sparse{id}"));
@@ -34,15 +36,15 @@ pub fn all_env_ids() -> Vec<String> {
 pub struct EnvOptions {
     /// Gymnasium registers all four tasks with 1000.
     pub max_episode_steps: usize,
-    /// Overrides the sparse distance threshold (2.0 Hopper/Walker2d, 20.0 HalfCheetah).
-    pub sparse_threshold: Option<f64>,
+    /// Makes a dense id's reward sparse by this rule (a config's `[env.sparse]`).
+    pub sparse: Option<SparseRule>,
 }
 
 impl Default for EnvOptions {
     fn default() -> Self {
         Self {
             max_episode_steps: 1000,
-            sparse_threshold: None,
+            sparse: None,
         }
     }
 }
@@ -79,43 +81,99 @@ fn unknown(id: &str) -> EnvError {
     EnvError::UnknownId(id.to_string(), all_env_ids().join(", "))
 }
 
+/// An id's task, version and sparse rule (`Sparse<id>`: the task's LOGO rule;
+/// `<id>+<rule>`: that rule; else dense).
+fn parse_id(id: &str) -> Result<(Kind, Version, Option<SparseRule>), EnvError> {
+    let (base, rule) = match (id.strip_prefix("Sparse"), id.split_once('+')) {
+        (Some(base), None) => (base, Some(None)),
+        (None, Some((base, rule))) => {
+            let rule = SparseRule::parse(rule)
+                .map_err(|e| EnvError::InvalidOption(format!("{id}: {e}")))?;
+            (base, Some(Some(rule)))
+        }
+        (None, None) => (id, None),
+        (Some(_), Some(_)) => return Err(unknown(id)),
+    };
+    let (name, version) = base.rsplit_once('-').ok_or_else(|| unknown(id))?;
+    let version = match version {
+        "v4" => Version::V4,
+        "v5" => Version::V5,
+        _ => return Err(unknown(id)),
+    };
+    let kind = match name {
+        "Hopper" => Kind::Hopper,
+        "Walker2d" => Kind::Walker2d,
+        "HalfCheetah" => Kind::HalfCheetah,
+        "InvertedDoublePendulum" => Kind::InvertedDoublePendulum,
+        _ => return Err(unknown(id)),
+    };
+    let rule = rule.map(|named| named.unwrap_or_else(|| kind.logo_rule()));
+    Ok((kind, version, rule))
+}
+
+impl Kind {
+    /// The sparse rule of LOGO's version of the task (its `Sparse<id>`).
+    fn logo_rule(self) -> SparseRule {
+        match self {
+            Kind::Hopper | Kind::Walker2d => SparseRule::Distance { threshold: 2.0 },
+            Kind::HalfCheetah => SparseRule::Distance { threshold: 20.0 },
+            Kind::InvertedDoublePendulum => SparseRule::Delayed,
+        }
+    }
+}
+
+/// Whether [`EnvFactory::new`] knows `id`, without loading its model.
+pub fn check_id(id: &str) -> Result<(), EnvError> {
+    parse_id(id).map(|_| ())
+}
+
+/// The dense task of any id: `Hopper-v4` for `SparseHopper-v4` and `Hopper-v4+delayed`.
+pub fn dense_id(id: &str) -> &str {
+    let id = id.strip_prefix("Sparse").unwrap_or(id);
+    id.split_once('+').map_or(id, |(base, _)| base)
+}
+
+/// The id of a dense task made sparse by `rule`: `Sparse<id>` where the rule is LOGO's
+/// for that task (so that a config's kind and the old name run and record alike), else
+/// `<id>+<rule>`.
+pub fn sparse_id(dense: &str, rule: SparseRule) -> Result<String, EnvError> {
+    let (kind, _, named) = parse_id(dense)?;
+    if named.is_some() {
+        return Err(EnvError::InvalidOption(format!(
+            "{dense} is already sparse"
+        )));
+    }
+    Ok(sparse_name(dense, kind, rule))
+}
+
+fn sparse_name(dense: &str, kind: Kind, rule: SparseRule) -> String {
+    if kind.logo_rule() == rule {
+        format!("Sparse{dense}")
+    } else {
+        format!("{dense}+{}", rule.describe())
+    }
+}
+
 impl EnvFactory {
     pub fn new(id: &str, options: &EnvOptions) -> Result<Self, EnvError> {
-        let (sparse, base) = match id.strip_prefix("Sparse") {
-            Some(base) => (true, base),
-            None => (false, id),
-        };
-        let (name, version) = base.rsplit_once('-').ok_or_else(|| unknown(id))?;
-        let version = match version {
-            "v4" => Version::V4,
-            "v5" => Version::V5,
-            _ => return Err(unknown(id)),
-        };
-        let (kind, default_threshold) = match name {
-            "Hopper" => (Kind::Hopper, Some(2.0)),
-            "Walker2d" => (Kind::Walker2d, Some(2.0)),
-            "HalfCheetah" => (Kind::HalfCheetah, Some(20.0)),
-            "InvertedDoublePendulum" => (Kind::InvertedDoublePendulum, None),
-            _ => return Err(unknown(id)),
-        };
+        let (kind, version, named_rule) = parse_id(id)?;
         if options.max_episode_steps == 0 {
             return Err(EnvError::InvalidOption(
                 "max_episode_steps must be at least 1".into(),
             ));
         }
-        if let Some(t) = options.sparse_threshold
-            && !t.is_finite()
-        {
-            return Err(EnvError::InvalidOption(format!(
-                "sparse_threshold must be finite, got {t}"
-            )));
+        let sparse = match (named_rule, options.sparse) {
+            (Some(_), Some(_)) => {
+                return Err(EnvError::InvalidOption(format!(
+                    "{id} is already sparse; give the dense id {} with the sparse rule",
+                    dense_id(id)
+                )));
+            }
+            (named, chosen) => named.or(chosen),
+        };
+        if let Some(rule) = &sparse {
+            rule.validate().map_err(EnvError::InvalidOption)?;
         }
-        let sparse = sparse.then(|| match default_threshold {
-            Some(default) => SparseRule::Distance {
-                threshold: options.sparse_threshold.unwrap_or(default),
-            },
-            None => SparseRule::EpisodeLump,
-        });
         let model_file = match kind {
             Kind::Hopper => Hopper { version }.model_file(),
             Kind::Walker2d => Walker2d { version }.model_file(),
@@ -140,7 +198,7 @@ impl EnvFactory {
         &self.spec
     }
 
-    /// The sparse rule, if this id is a sparse one.
+    /// The sparse rule, if the env is a sparse one.
     pub fn sparse_rule(&self) -> Option<SparseRule> {
         self.sparse
     }
@@ -174,9 +232,12 @@ fn build_env(
     model: &Arc<MjModel>,
     max_episode_steps: usize,
 ) -> Box<dyn Env> {
-    fn finish<T: Task>(env: MujocoEnv<T>, sparse: Option<SparseRule>) -> Box<dyn Env> {
+    fn finish<T: Task>(env: MujocoEnv<T>, kind: Kind, sparse: Option<SparseRule>) -> Box<dyn Env> {
         match sparse {
-            Some(rule) => Box::new(SparseReward::new(env, rule)),
+            Some(rule) => {
+                let id = sparse_name(&env.spec().id, kind, rule);
+                Box::new(SparseReward::new(env, rule, id))
+            }
             None => Box::new(env),
         }
     }
@@ -184,18 +245,22 @@ fn build_env(
     match kind {
         Kind::Hopper => finish(
             MujocoEnv::with_model(Hopper { version }, model, steps),
+            kind,
             sparse,
         ),
         Kind::Walker2d => finish(
             MujocoEnv::with_model(Walker2d { version }, model, steps),
+            kind,
             sparse,
         ),
         Kind::HalfCheetah => finish(
             MujocoEnv::with_model(HalfCheetah { version }, model, steps),
+            kind,
             sparse,
         ),
         Kind::InvertedDoublePendulum => finish(
             MujocoEnv::with_model(InvertedDoublePendulum { version }, model, steps),
+            kind,
             sparse,
         ),
     }

@@ -60,7 +60,7 @@ pub struct Renderer {
 /// Gymnasium's default camera for `env_id` (its `DEFAULT_CAMERA_CONFIG`), tracking the
 /// body it names: (body, distance, elevation in degrees).
 fn camera(env_id: &str) -> (usize, f64, f64) {
-    let task = env_id.strip_prefix("Sparse").unwrap_or(env_id);
+    let task = crate::dense_id(env_id);
     match task.split('-').next().unwrap_or(task) {
         // Gymnasium tracks body 2 (the thigh); its subtree's centre leaves the torso
         // out of a square frame, so the whole robot's (body 1) is tracked instead.

@@ -1,19 +1,121 @@
 //! LOGO's sparse-reward versions of the tasks (see `docs/reference.md`): the agent is paid
 //! only for having gone far, or only once per episode. The dense reward stays in
-//! [`StepInfo::dense_reward`] so evaluation can report both.
+//! [`StepInfo::dense_reward`] so evaluation can report both. A config chooses the rule
+//! by its kind (`[env.sparse] kind = "distance"`); the `Sparse<id>` ids are the tasks'
+//! LOGO rules under their old names.
+
+use serde::{Deserialize, Serialize};
 
 use crate::env::{Env, EnvError, EnvSpec, ResetPoint, Step};
 
-/// How the sparse reward is paid.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// How the sparse reward is paid: a config's `[env.sparse]` table, `kind` naming the rule.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "RuleTable", into = "RuleTable")]
 pub enum SparseRule {
     /// +1 on every step where `x − x_init > threshold` (x_init: x at the episode's start),
-    /// else 0. Hopper and Walker2d use 2.0, HalfCheetah 20.0. (The LOGO code pays on every
-    /// step spent past the threshold, not once; its published curves follow the code.)
+    /// else 0. LOGO's Hopper and Walker2d use 2.0, HalfCheetah 20.0. (The LOGO code pays
+    /// on every step spent past the threshold, not once; its published curves follow the
+    /// code.)
     Distance { threshold: f64 },
     /// The dense rewards accumulated and paid in one lump on the episode's last step
-    /// (termination or time limit); 0 on every other step. InvertedDoublePendulum.
-    EpisodeLump,
+    /// (termination or time limit); 0 on every other step. LOGO's InvertedDoublePendulum.
+    Delayed,
+}
+
+/// Each kind, its parameters and what it pays, for `logo envs` and error messages.
+pub const SPARSE_KINDS: [(&str, &str, &str); 2] = [
+    (
+        "distance",
+        "threshold (metres along x)",
+        "+1 on every step once x has moved past the threshold from the episode's start",
+    ),
+    (
+        "delayed",
+        "-",
+        "the episode's dense return, paid once on its last step",
+    ),
+];
+
+/// The table as written: each kind's parameters are checked by hand, so that a
+/// parameter given to a kind without it is an error too (serde's tagged enums let it by).
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RuleTable {
+    kind: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    threshold: Option<f64>,
+}
+
+impl TryFrom<RuleTable> for SparseRule {
+    type Error = String;
+    fn try_from(table: RuleTable) -> Result<Self, String> {
+        let rule = match (table.kind.as_str(), table.threshold) {
+            ("distance", Some(threshold)) => Self::Distance { threshold },
+            ("distance", None) => return Err("kind \"distance\" needs `threshold`".into()),
+            ("delayed", None) => Self::Delayed,
+            ("delayed", Some(_)) => return Err("kind \"delayed\" takes no `threshold`".into()),
+            (kind, _) => {
+                let known: Vec<&str> = SPARSE_KINDS.iter().map(|k| k.0).collect();
+                return Err(format!(
+                    "unknown sparse kind {kind:?}; the kinds are {}",
+                    known.join(", ")
+                ));
+            }
+        };
+        rule.validate()?;
+        Ok(rule)
+    }
+}
+
+impl From<SparseRule> for RuleTable {
+    fn from(rule: SparseRule) -> Self {
+        let (kind, threshold) = match rule {
+            SparseRule::Distance { threshold } => ("distance", Some(threshold)),
+            SparseRule::Delayed => ("delayed", None),
+        };
+        Self {
+            kind: kind.into(),
+            threshold,
+        }
+    }
+}
+
+impl SparseRule {
+    /// What a file can get wrong that serde cannot see.
+    pub fn validate(&self) -> Result<(), String> {
+        match *self {
+            Self::Distance { threshold } if !threshold.is_finite() => Err(format!(
+                "sparse.threshold must be a finite number of metres, got {threshold}"
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    /// The kind as a config names it, with its parameter: `distance(2)`, `delayed`.
+    pub fn describe(&self) -> String {
+        match self {
+            Self::Distance { threshold } => format!("distance({threshold})"),
+            Self::Delayed => "delayed".into(),
+        }
+    }
+
+    /// Reads [`SparseRule::describe`]'s form back.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let expected = "expected distance(<metres>) or delayed";
+        let rule = match text.split_once('(') {
+            None if text == "delayed" => Self::Delayed,
+            Some(("distance", rest)) => {
+                let value = rest.strip_suffix(')').ok_or(expected)?;
+                let threshold = value
+                    .parse()
+                    .map_err(|_| format!("distance threshold {value:?} is not a number"))?;
+                Self::Distance { threshold }
+            }
+            _ => return Err(format!("unknown sparse kind {text:?}: {expected}")),
+        };
+        rule.validate()?;
+        Ok(rule)
+    }
 }
 
 /// Wraps an env and replaces its reward by LOGO's sparse one.
@@ -26,9 +128,10 @@ pub struct SparseReward<E: Env> {
 }
 
 impl<E: Env> SparseReward<E> {
-    pub fn new(inner: E, rule: SparseRule) -> Self {
+    /// `id` names the sparse task (the registry's: `SparseHopper-v4` for LOGO's rule).
+    pub fn new(inner: E, rule: SparseRule, id: String) -> Self {
         let mut spec = inner.spec().clone();
-        spec.id = format!("Sparse{}", spec.id);
+        spec.id = id;
         Self {
             inner,
             rule,
@@ -68,7 +171,7 @@ impl<E: Env> Env for SparseReward<E> {
                     0.0
                 }
             }
-            SparseRule::EpisodeLump => {
+            SparseRule::Delayed => {
                 self.episode_dense_return += step.info.dense_reward;
                 if step.done() {
                     self.episode_dense_return

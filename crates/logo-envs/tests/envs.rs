@@ -1,6 +1,6 @@
 //! Behaviour of the env API beyond the Gymnasium formulas (those are in parity.rs).
 
-use logo_envs::{Env, EnvError, EnvFactory, EnvOptions, VecEnv, make};
+use logo_envs::{Env, EnvConfig, EnvError, EnvFactory, EnvOptions, SparseRule, VecEnv, make};
 
 /// A deterministic, seed-free action stream in [-1, 1] for copy `env` at step `t`.
 fn action(env: usize, t: usize, dim: usize) -> Vec<f64> {
@@ -198,15 +198,40 @@ fn unknown_ids_and_bad_options_name_the_problem() {
             .contains("max_episode_steps")
     );
     let bad = EnvOptions {
-        sparse_threshold: Some(f64::NAN),
+        sparse: Some(SparseRule::Distance {
+            threshold: f64::NAN,
+        }),
         ..Default::default()
     };
     assert!(
-        EnvFactory::new("SparseHopper-v4", &bad)
+        EnvFactory::new("Hopper-v4", &bad)
             .unwrap_err()
             .to_string()
-            .contains("sparse_threshold")
+            .contains("sparse.threshold must be a finite number")
     );
+    let twice = EnvOptions {
+        sparse: Some(SparseRule::Delayed),
+        ..Default::default()
+    };
+    let err = EnvFactory::new("SparseHopper-v4", &twice)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("already sparse") && err.contains("Hopper-v4"),
+        "{err}"
+    );
+    for (id, needle) in [
+        ("Hopper-v4+walk(2)", "unknown sparse kind \"walk(2)\""),
+        ("Hopper-v4+distance(far)", "\"far\" is not a number"),
+        (
+            "Hopper-v4+distance(2",
+            "expected distance(<metres>) or delayed",
+        ),
+        ("SparseHopper-v4+delayed", "unknown environment id"),
+    ] {
+        let err = make(id).err().unwrap().to_string();
+        assert!(err.contains(needle), "{id}: {err}");
+    }
     let factory = EnvFactory::new("Hopper-v4", &EnvOptions::default()).unwrap();
     assert!(VecEnv::new(&factory, 0, 1, 0).is_err());
     assert!(VecEnv::new(&factory, 1, 0, 0).is_err());
@@ -226,4 +251,128 @@ fn unknown_ids_and_bad_options_name_the_problem() {
         env.set_state(&[0.0; 5], &[0.0; 6], &mut obs),
         Err(EnvError::StateLength { what: "qpos", .. })
     ));
+}
+
+/// A sparse rule chosen by kind builds the same env as LOGO's name for it when the rule is
+/// LOGO's (same id, same rewards), and a differently named one otherwise.
+#[test]
+fn sparse_kinds_and_their_ids() {
+    let kind = |id: &str, rule| EnvConfig {
+        id: id.into(),
+        sparse: Some(rule),
+    };
+    let logo = [
+        (
+            "SparseHopper-v4",
+            kind("Hopper-v4", SparseRule::Distance { threshold: 2.0 }),
+        ),
+        (
+            "SparseHalfCheetah-v5",
+            kind("HalfCheetah-v5", SparseRule::Distance { threshold: 20.0 }),
+        ),
+        (
+            "SparseInvertedDoublePendulum-v4",
+            kind("InvertedDoublePendulum-v4", SparseRule::Delayed),
+        ),
+    ];
+    for (alias, config) in logo {
+        assert_eq!(config.env_id().unwrap(), alias);
+        let factory = config.factory().unwrap();
+        assert_eq!(factory.spec().id, alias);
+        assert_eq!(
+            factory.sparse_rule(),
+            EnvConfig::named(alias).factory().unwrap().sparse_rule()
+        );
+        assert_eq!(config.dense_id(), logo_envs::dense_id(alias));
+    }
+    // Not LOGO's rule: its own id, which builds the same env again.
+    let far = kind("Hopper-v4", SparseRule::Distance { threshold: 5.0 });
+    assert_eq!(far.env_id().unwrap(), "Hopper-v4+distance(5)");
+    let again = EnvConfig::named("Hopper-v4+distance(5)").factory().unwrap();
+    assert_eq!(again.sparse_rule(), far.sparse);
+    assert_eq!(logo_envs::dense_id("Hopper-v4+distance(5)"), "Hopper-v4");
+    let delayed = kind("Hopper-v4", SparseRule::Delayed).factory().unwrap();
+    assert_eq!(delayed.spec().id, "Hopper-v4+delayed");
+
+    // The delayed kind on Hopper pays the episode's dense return on its last step only.
+    let mut env = delayed.build();
+    let mut obs = vec![0.0; 11];
+    env.reset(Some(3), &mut obs);
+    let (mut dense, mut paid) = (0.0, 0.0);
+    loop {
+        let step = env.step(&[0.3, -0.2, 0.1], &mut obs).unwrap();
+        dense += step.info.dense_reward;
+        if !step.done() {
+            assert_eq!(step.reward, 0.0);
+            continue;
+        }
+        paid += step.reward;
+        break;
+    }
+    assert_eq!(paid, dense);
+    assert!(dense != 0.0);
+}
+
+/// The config forms: a string is an id; a table names a dense id and a rule; a mistake
+/// names what is wrong.
+#[test]
+fn env_config_from_toml() {
+    #[derive(serde::Deserialize, serde::Serialize)]
+    struct File {
+        env: EnvConfig,
+    }
+    let read = |text: &str| toml::from_str::<File>(text).map(|f| f.env);
+    assert_eq!(
+        read("env = \"SparseHopper-v4\"").unwrap(),
+        EnvConfig::named("SparseHopper-v4")
+    );
+    let table = "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"distance\", threshold = 2.0 }\n";
+    let config = read(table).unwrap();
+    assert_eq!(config.sparse, Some(SparseRule::Distance { threshold: 2.0 }));
+    // Written back as read.
+    let written = toml::to_string(&File {
+        env: config.clone(),
+    })
+    .unwrap();
+    assert_eq!(read(&written).unwrap(), config);
+    let written = toml::to_string(&File {
+        env: EnvConfig::named("Walker2d-v5"),
+    })
+    .unwrap();
+    assert_eq!(written.trim(), "env = \"Walker2d-v5\"");
+    for (text, needle) in [
+        (
+            "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"goal\" }",
+            "unknown sparse kind \"goal\"; the kinds are distance, delayed",
+        ),
+        (
+            "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"distance\" }",
+            "kind \"distance\" needs `threshold`",
+        ),
+        (
+            "[env]\nid = \"Hopper-v4\"\nsparse = { threshold = 2.0 }",
+            "missing field `kind`",
+        ),
+        (
+            "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"delayed\", threshold = 2.0 }",
+            "kind \"delayed\" takes no `threshold`",
+        ),
+        ("[env]\nname = \"Hopper-v4\"", "unknown field `name`"),
+        ("env = 3", "an env id, or a table"),
+    ] {
+        let err = read(text).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(err.contains(needle), "{text}: {err}");
+    }
+    let aliased = read("[env]\nid = \"SparseHopper-v4\"\nsparse = { kind = \"delayed\" }").unwrap();
+    let err = aliased.validate("env").unwrap_err();
+    assert!(
+        err.starts_with("env: ") && err.contains("already sparse"),
+        "{err}"
+    );
+    assert!(
+        EnvConfig::named("Ant-v4")
+            .validate("eval_env")
+            .unwrap_err()
+            .contains("unknown environment id")
+    );
 }

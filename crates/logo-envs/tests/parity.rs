@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use logo_envs::{EnvFactory, EnvOptions};
+use logo_envs::{EnvFactory, EnvOptions, SparseRule};
 use serde_json::Value;
 
 const TOLERANCE: f64 = 1e-9;
@@ -134,8 +134,11 @@ fn every_env_id_matches_gymnasium() {
             .collect();
         for meta in manifest["trajectories"].as_array().unwrap() {
             let traj = Trajectory { meta, data: &data };
+            // The distance kind with the fixture's lower threshold, on the dense id.
             let low = EnvOptions {
-                sparse_threshold: meta["low_threshold"].as_f64(),
+                sparse: meta["low_threshold"]
+                    .as_f64()
+                    .map(|threshold| SparseRule::Distance { threshold }),
                 ..EnvOptions::default()
             };
             let sparse_id = format!("Sparse{base_id}");
@@ -145,7 +148,7 @@ fn every_env_id_matches_gymnasium() {
             ];
             // The configurable threshold (no threshold for the episode-lump rule).
             if !manifest["sparse_threshold"].is_null() {
-                runs.push((sparse_id, low, "sparse_reward_low"));
+                runs.push((base_id.to_string(), low, "sparse_reward_low"));
             }
             for (id, options, column) in runs {
                 match replay(&id, &options, &traj, column) {

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use logo_data::Demonstrations;
-use logo_envs::{EnvFactory, EnvOptions, EnvSpec, VecEnv};
+use logo_envs::{EnvSpec, VecEnv};
 use logo_nn::flat::params_to_vec;
 use logo_nn::{
     Cpu, Discriminator, DiscriminatorConfig, Engine, GaussianPolicy, Policy, PolicyConfig,
@@ -34,7 +34,7 @@ impl<E: Engine> Trainer<E> {
     }
 
     pub(super) fn build(engine: E, config: TrainConfig, run: RunDir) -> Result<Self, TrainError> {
-        let factory = EnvFactory::new(&config.env, &EnvOptions::default())?;
+        let factory = config.env.factory()?;
         let spec = factory.spec().clone();
         let evaluator = Evaluator::new(&config, &spec)?;
         let demos = match config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
@@ -100,7 +100,7 @@ impl Evaluator {
     /// wrapper leaves the dynamics and the dense reward as they are), unless `eval_env`
     /// names another.
     fn new(config: &TrainConfig, spec: &EnvSpec) -> Result<Self, TrainError> {
-        let env = EnvFactory::new(config.evaluated_env(), &EnvOptions::default())?.build();
+        let env = config.evaluated_env().factory()?.build();
         if env.spec().obs_dim != spec.obs_dim || env.spec().act_dim != spec.act_dim {
             return Err(format!(
                 "eval_env {} does not have the dims of env {}",

@@ -118,7 +118,11 @@ fn check_config_against_meta(
     state: &ResumeState,
 ) -> Result<(), String> {
     for (what, found, expected) in [
-        ("env", meta.env_id.clone(), config.env.clone()),
+        (
+            "env",
+            meta.env_id.clone(),
+            config.env.env_id().map_err(|e| e.to_string())?,
+        ),
         (
             "algorithm",
             meta.algorithm.clone(),

@@ -17,7 +17,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use logo_algo::{IterationMetrics, Schedule, TrainConfig, Trainer};
-use logo_envs::{EnvFactory, EnvOptions};
+
 use logo_nn::{Engine, flops};
 use serde::Serialize;
 
@@ -150,7 +150,9 @@ pub fn run(args: &IterationBenchArgs) -> Result<()> {
     let sequential = run(Schedule::Sequential)?;
     let pipelined = run(Schedule::Pipelined)?;
 
-    let factory = EnvFactory::new(&config.env, &EnvOptions::default())
+    let factory = config
+        .env
+        .factory()
         .with_context(|| format!("{}: env", args.config.display()))?;
     let raw = single_thread_rates(&factory, 5_000, 5)?.raw_env_steps_per_s;
     let gemm = match args.engine.dtype() {
