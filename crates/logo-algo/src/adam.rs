@@ -61,51 +61,47 @@ pub struct AdamEpochs {
     pub max_grad_norm: Option<f64>,
 }
 
-/// How a run of [`AdamEpochs`] ended.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EpochsRun {
-    /// Epochs begun (the last one possibly cut short by the stop).
-    pub epochs: usize,
-    pub steps: usize,
-    /// Whether the minibatch function asked to stop before the last epoch ended.
-    pub stopped_early: bool,
-}
-
 impl AdamEpochs {
-    /// Runs the epochs over `rows` rows: `gradient(indices, theta)` is the minibatch's
-    /// gradient at `theta` (of a loss to minimise), or `None` to stop at once.
+    /// One epoch's minibatches: `order` shuffled in place and cut into chunks. The order
+    /// is kept from epoch to epoch (each epoch shuffles the last one's permutation), so
+    /// the same generator gives the same minibatches as the runs before this was split.
+    pub fn minibatches<'a>(
+        &self,
+        order: &'a mut [usize],
+        rng: &mut ChaCha8Rng,
+    ) -> std::slice::Chunks<'a, usize> {
+        order.shuffle(rng);
+        order.chunks(self.minibatch.max(1))
+    }
+
+    /// One Adam step down `grad` (the gradient of a loss to minimise), scaled to
+    /// `max_grad_norm` first when longer.
+    pub fn step(&self, adam: &mut Adam, theta: &mut [f64], mut grad: Vec<f64>) {
+        if let Some(max) = self.max_grad_norm {
+            let norm = grad.iter().map(|g| g * g).sum::<f64>().sqrt();
+            if norm > max {
+                grad.iter_mut().for_each(|g| *g *= max / norm);
+            }
+        }
+        adam.step(theta, &grad, self.learning_rate);
+    }
+
+    /// Every epoch over `rows` rows, without a stop: `gradient(indices, theta)` is the
+    /// minibatch's gradient at `theta` (the critics' `adam` fit).
     pub fn run(
         &self,
         adam: &mut Adam,
         theta: &mut [f64],
         rows: usize,
         rng: &mut ChaCha8Rng,
-        mut gradient: impl FnMut(&[usize], &[f64]) -> Option<Vec<f64>>,
-    ) -> EpochsRun {
+        mut gradient: impl FnMut(&[usize], &[f64]) -> Vec<f64>,
+    ) {
         let mut order: Vec<usize> = (0..rows).collect();
-        let mut run = EpochsRun {
-            epochs: 0,
-            steps: 0,
-            stopped_early: false,
-        };
         for _ in 0..self.epochs {
-            run.epochs += 1;
-            order.shuffle(rng);
-            for minibatch in order.chunks(self.minibatch.max(1)) {
-                let Some(mut grad) = gradient(minibatch, theta) else {
-                    run.stopped_early = true;
-                    return run;
-                };
-                if let Some(max) = self.max_grad_norm {
-                    let norm = grad.iter().map(|g| g * g).sum::<f64>().sqrt();
-                    if norm > max {
-                        grad.iter_mut().for_each(|g| *g *= max / norm);
-                    }
-                }
-                adam.step(theta, &grad, self.learning_rate);
-                run.steps += 1;
+            for minibatch in self.minibatches(&mut order, rng) {
+                let grad = gradient(minibatch, theta);
+                self.step(adam, theta, grad);
             }
         }
-        run
     }
 }

@@ -249,7 +249,7 @@ impl<E: Engine> CriticSet<E> {
                             fit.l2,
                         );
                         lbfgs::Objective::loss(&mut objective, theta);
-                        Some(lbfgs::Objective::gradient(&mut objective))
+                        lbfgs::Objective::gradient(&mut objective)
                     });
                     let loss = ValueObjective::new(engine, &self.dims, obs, &targets, fit.l2)
                         .value(&theta);

@@ -149,6 +149,14 @@ fn sparse_hopper_three_iterations_float32() {
     check("hopper-f32", "configs/logo/hopper.toml", "3", "f32");
 }
 
+/// PPO-Clip (with its KL stop), PPO-Penalty and the critics' Adam fit on sparse IDP for 5
+/// iterations (`tests/golden/idp-ppo.toml`). Its fixture was written by the binary of
+/// 12f567c, whose metrics and tensors on this config equal 463789f's.
+#[test]
+fn first_order_kinds_five_iterations_float64() {
+    check("idp-ppo-f64", "tests/golden/idp-ppo.toml", "5", "f64");
+}
+
 /// A scratch folder for variants of a shipped config, and that config's text with its
 /// data paths made absolute (the variants are written elsewhere than configs/).
 fn shipped_config(name: &str, config: &str) -> (PathBuf, String) {

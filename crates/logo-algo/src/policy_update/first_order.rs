@@ -1,5 +1,6 @@
 //! Epochs of minibatch Adam on a surrogate: the loop both first-order kinds (`ppo-clip`,
-//! `ppo-penalty`) run, with their surrogate and stopping rule as arguments.
+//! `ppo-penalty`) run, written out with PPO-Clip's KL stop where it acts. PPO-Penalty's
+//! β follows the epochs, in `ppo_penalty::update`.
 
 use logo_nn::{Engine, Policy};
 use rand_chacha::ChaCha8Rng;
@@ -26,12 +27,7 @@ pub(super) fn minibatch_ascent<E: Engine>(
     adam: &mut Adam,
     rng: &mut ChaCha8Rng,
 ) -> (Policy<E>, UpdateStats) {
-    let Ascent {
-        surrogate,
-        epochs,
-        kl_bound,
-    } = ascent;
-    let (surrogate, kl_bound) = (*surrogate, *kl_bound);
+    let (surrogate, epochs) = (ascent.surrogate, &ascent.epochs);
     let trace = engine.trace(&policy.mean, &batch.obs);
     let start = anchor(engine, policy, &trace);
     let (before, _) = evaluate_means(
@@ -44,35 +40,45 @@ pub(super) fn minibatch_ascent<E: Engine>(
     );
     let theta0 = policy.params(engine);
     let mut theta = theta0.clone();
-    let run = epochs.run(adam, &mut theta, batch.rows, rng, |indices, theta| {
-        let current = policy.with_params(engine, theta);
-        let minibatch = batch.select(engine, indices);
-        let minibatch_start = start.select(indices);
-        let trace = engine.trace(&current.mean, &minibatch.obs);
-        if let Some(bound) = kl_bound {
-            let means = engine.output(&trace);
-            let (_, kl) = evaluate_means(
+    let mut order: Vec<usize> = (0..batch.rows).collect();
+    let (mut epochs_begun, mut steps, mut stop) = (0, 0, StopReason::MaxEpochs);
+    'epochs: for _ in 0..epochs.epochs {
+        epochs_begun += 1;
+        for indices in epochs.minibatches(&mut order, rng) {
+            let current = policy.with_params(engine, &theta);
+            let minibatch = batch.select(engine, indices);
+            let minibatch_start = start.select(indices);
+            let trace = engine.trace(&current.mean, &minibatch.obs);
+            // PPO-Clip's early stop: a minibatch already too far from the start ends the
+            // epochs before its step.
+            if let Some(bound) = ascent.kl_bound {
+                let means = engine.output(&trace);
+                let (_, kl) = evaluate_means(
+                    engine,
+                    surrogate,
+                    &current,
+                    means,
+                    &minibatch,
+                    &minibatch_start,
+                );
+                if kl > bound {
+                    stop = StopReason::KlBound;
+                    break 'epochs;
+                }
+            }
+            let (_, grad) = gradient(
                 engine,
                 surrogate,
                 &current,
-                means,
+                &trace,
                 &minibatch,
                 &minibatch_start,
             );
-            if kl > bound {
-                return None;
-            }
+            // Adam minimises, so it is given the gradient of −surrogate.
+            epochs.step(adam, &mut theta, grad.iter().map(|g| -g).collect());
+            steps += 1;
         }
-        let (_, grad) = gradient(
-            engine,
-            surrogate,
-            &current,
-            &trace,
-            &minibatch,
-            &minibatch_start,
-        );
-        Some(grad.iter().map(|g| -g).collect()) // Adam minimises −surrogate
-    });
+    }
     let moved = policy.with_params(engine, &theta);
     let (after, kl) = evaluate(engine, surrogate, &moved, batch, &start);
     let step_norm = theta
@@ -85,13 +91,9 @@ pub(super) fn minibatch_ascent<E: Engine>(
         kl,
         step_norm,
         improvement: after - before,
-        steps: run.steps as f64,
-        epochs: run.epochs,
-        stop: if run.stopped_early {
-            StopReason::KlBound
-        } else {
-            StopReason::MaxEpochs
-        },
+        steps: steps as f64,
+        epochs: epochs_begun,
+        stop,
         beta: 0.0,
     };
     (moved, stats)
