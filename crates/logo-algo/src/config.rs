@@ -71,8 +71,9 @@ pub struct TrainConfig {
     /// evaluates, drawn from a stream of their own: training is the same either way).
     #[serde(default)]
     pub eval_initial_states: EvalInitialStates,
-    /// Clip each sampled action to the env's action space before the env sees it (as
-    /// Stable-Baselines3 and CleanRL do); the batch keeps the sampled action. MuJoCo
+    /// Clip each sampled action, and each evaluation's mean action, to the env's action
+    /// space before the env sees it (as Stable-Baselines3 and CleanRL do); the batch
+    /// keeps the sampled action. MuJoCo
     /// clamps controls to their range anyway, so on a sparse task whose reward ignores
     /// the action this changes nothing in training (tests/golden.rs); on a dense task it
     /// changes what the control cost charges. Off by default, as in the reference code.

@@ -1,7 +1,7 @@
 //! One episode of a fixed policy, and the evaluation made of such episodes: the one
 //! episode loop that training's evaluation, `logo eval` and `logo rollout` share.
 
-use logo_envs::{Env, EnvError};
+use logo_envs::{Env, EnvError, clip_to_range};
 use logo_nn::ActingPolicy;
 
 /// One episode's totals.
@@ -85,10 +85,22 @@ pub fn evaluate(
     policy: &ActingPolicy,
     mut reset_seed: impl FnMut(usize) -> u64,
     min_steps: usize,
+    clip_actions: bool,
 ) -> Result<Evaluation, EnvError> {
     let (mut steps, mut episodes) = (0, Vec::new());
+    let (low, high) = (
+        env.spec().action_low.clone(),
+        env.spec().action_high.clone(),
+    );
+    let act = |obs: &[f64]| {
+        let mut action = policy.mean(obs);
+        if clip_actions {
+            clip_to_range(&mut action, &low, &high);
+        }
+        action
+    };
     while steps < min_steps {
-        let episode = run_episode(env, reset_seed(episodes.len()), |obs| policy.mean(obs))?;
+        let episode = run_episode(env, reset_seed(episodes.len()), act)?;
         steps += episode.length;
         episodes.push(episode);
     }

@@ -12,7 +12,7 @@
 //! for a count of 5000 (≈ 12% more work for the critics and the policy steps on sparse
 //! IDP). `Steps`: a fixed number of steps per copy.
 
-use logo_envs::{EnvError, VecEnv};
+use logo_envs::{EnvError, VecEnv, clip_to_range};
 use logo_nn::ActingPolicy;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -208,9 +208,8 @@ impl Sampler {
                 let step = match clip {
                     None => env.step(&action, obs)?,
                     Some((low, high)) => {
-                        let clipped: Vec<f64> = (action.iter().zip(low).zip(high))
-                            .map(|((a, lo), hi)| a.clamp(*lo, *hi))
-                            .collect();
+                        let mut clipped = action.clone();
+                        clip_to_range(&mut clipped, low, high);
                         env.step(&clipped, obs)?
                     }
                 };

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::Args;
-use logo_envs::{Env, EnvFactory, EnvOptions};
+use logo_envs::{Env, EnvFactory, EnvOptions, clip_to_range};
 use logo_nn::{
     ActingPolicy, Checkpoint, CheckpointMeta, Cpu, Engine, GaussianPolicy, Policy, PolicyConfig,
 };
@@ -14,8 +14,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::engine::{EngineArgs, WithEngine};
-use crate::final_eval::clip_to_range;
 use crate::video::{Video, VideoArgs};
+use logo_algo::TrainConfig;
 use logo_algo::episode::{Episode, run_episode_with};
 use logo_stats::mean_std;
 
@@ -47,15 +47,20 @@ pub struct EvalArgs {
     /// clamps actions to that range anyway, so the motion is the same, but the dense
     /// locomotion rewards charge their control cost on the action as given: this
     /// separates what a policy does from what its out-of-range actions cost. Training and
-    /// the per-iteration evaluation do not clip (neither does the reference code).
+    /// the per-iteration evaluation clip only where the run's config sets `clip_actions`
+    /// (the reference code does not).
     #[arg(long)]
     clip_actions: bool,
     /// Print, as JSON, what a run's `eval.json` holds for one policy: --episodes
     /// episodes (at least 20, whatever --episodes says below that) of the checkpoint's
     /// trained task from the fresh initial
     /// states of its seed, the mean action as sent and clipped, each episode's return,
-    /// dense return, length, distance and action RMS, and the success rate.
-    #[arg(long, conflicts_with_all = ["sample", "split_at", "clip_actions", "env", "video"])]
+    /// dense return, length, distance and action RMS, and the success rate. The env is the
+    /// one the run evaluated on (its config's `eval_env`, else the trained task).
+    #[arg(
+        long,
+        conflicts_with_all = ["sample", "split_at", "clip_actions", "env", "video", "seed"]
+    )]
     json: bool,
     /// The engine the policy is loaded onto (any engine or float type loads any
     /// checkpoint); episodes act with its host copy, as training does. Default: the one
@@ -77,6 +82,15 @@ impl WithEngine for OnEngine<'_> {
         let policy = Policy::from_module(&engine, self.0);
         Ok((policy.acting(&engine), engine.describe()))
     }
+}
+
+/// The env a run evaluated on, as its checkpoint's config says (`eval_env`, else the
+/// trained task); the trained task where the metadata holds no config.
+fn evaluated_env(meta: &CheckpointMeta) -> String {
+    serde_json::from_value::<TrainConfig>(meta.extra["config"].clone())
+        .ok()
+        .and_then(|config| config.evaluated_env().env_id().ok())
+        .unwrap_or_else(|| meta.env_id.clone())
 }
 
 /// The policy stored in a checkpoint, and the checkpoint's metadata.
@@ -115,10 +129,11 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     if args.json {
         // At least the 20 episodes of a run's eval.json (--episodes may ask for more).
         let episodes = args.episodes.max(crate::final_eval::EPISODES);
-        let mut report = crate::final_eval::report(&meta.env_id, &acting, meta.seed, episodes)?;
+        let env = evaluated_env(meta);
+        let mut report = crate::final_eval::report(&env, &acting, meta.seed, episodes)?;
         report["checkpoint"] = args.checkpoint.display().to_string().into();
         report["iteration"] = meta.iteration.into();
-        report["env"] = meta.env_id.clone().into();
+        report["env"] = env.into();
         report["engine"] = engine.into();
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());

@@ -7,11 +7,12 @@
 //! every training iteration evaluates on ([`logo_algo::episode::evaluation_seed`]), so the
 //! end-of-run numbers are not those the best policy was picked on.
 
+use std::io::Write as _;
 use std::path::Path;
 
 use anyhow::{Context, Result};
 use logo_algo::episode::{Episode, run_episode};
-use logo_envs::{EnvFactory, EnvOptions};
+use logo_envs::{EnvFactory, EnvOptions, clip_to_range};
 use logo_nn::ActingPolicy;
 use logo_stats::mean;
 use serde_json::{Value, json};
@@ -58,13 +59,6 @@ pub fn play(
             Ok(episode)
         })
         .collect()
-}
-
-/// `--clip-actions` and the clipped evaluation: each component into `[low, high]`.
-pub(crate) fn clip_to_range(action: &mut [f64], low: &[f64], high: &[f64]) {
-    for ((a, &lo), &hi) in action.iter_mut().zip(low).zip(high) {
-        *a = a.clamp(lo, hi);
-    }
 }
 
 /// Means over the episodes, and the success rate: the share of episodes whose own return
@@ -142,7 +136,14 @@ pub fn write(
     });
     let path = run_dir.join("eval.json");
     let tmp = run_dir.join(format!("eval.json.tmp.{}", std::process::id()));
-    std::fs::write(&tmp, serde_json::to_string_pretty(&doc)? + "\n")
+    // Written, synced, then renamed (as checkpoints are): a crash leaves the old file or
+    // the whole new one.
+    let text = serde_json::to_string_pretty(&doc)? + "\n";
+    std::fs::File::create(&tmp)
+        .and_then(|mut file| {
+            file.write_all(text.as_bytes())?;
+            file.sync_all()
+        })
         .with_context(|| format!("{}", tmp.display()))?;
     std::fs::rename(&tmp, &path).with_context(|| format!("{}", path.display()))?;
     Ok(())

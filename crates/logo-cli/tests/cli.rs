@@ -708,6 +708,18 @@ fn a_sparse_kind_of_the_config_is_evaluated_and_resumed_as_trained() {
         stdout.contains("InvertedDoublePendulum-v4+distance(0.5)"),
         "{stdout}"
     );
+    // eval.json's numbers for this policy: on the env the run evaluated on; its initial
+    // states are the run's, so --seed is refused rather than ignored.
+    let ckpt = checkpoint.to_str().unwrap();
+    let report: serde_json::Value =
+        serde_json::from_str(&succeed(&["eval", "--checkpoint", ckpt, "--json"])).unwrap();
+    assert_eq!(report["env"], "InvertedDoublePendulum-v4+distance(0.5)");
+    let out = logo(&["eval", "--checkpoint", ckpt, "--json", "--seed", "3"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("'--seed <SEED>'"),
+        "{err}"
+    );
     succeed(&["train", "--resume", &run, "--iterations", "3"]);
     let rows = std::fs::read_to_string(dir.join("run/metrics.csv")).unwrap();
     assert_eq!(rows.lines().count(), 4, "{rows}");

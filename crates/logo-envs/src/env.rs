@@ -21,6 +21,14 @@ pub struct EnvSpec {
     pub dt: f64,
 }
 
+/// Clamps each action component to its range (`clip_actions`, `logo eval --clip-actions`):
+/// what Stable-Baselines3 and CleanRL send their envs.
+pub fn clip_to_range(action: &mut [f64], low: &[f64], high: &[f64]) {
+    for ((a, &lo), &hi) in action.iter_mut().zip(low).zip(high) {
+        *a = a.clamp(lo, hi);
+    }
+}
+
 /// Per-step facts beside the reward, so evaluation can report both reward streams.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepInfo {

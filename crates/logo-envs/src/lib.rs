@@ -24,7 +24,9 @@ mod walker2d;
 #[cfg(feature = "render")]
 pub mod render;
 
-pub use env::{Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo, Version};
+pub use env::{
+    Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo, Version, clip_to_range,
+};
 pub use env_config::EnvConfig;
 pub use half_cheetah::HalfCheetah;
 pub use hopper::Hopper;

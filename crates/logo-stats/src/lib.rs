@@ -45,21 +45,31 @@ pub fn mean_std(x: &[f64]) -> (f64, f64) {
     (mean(x), std(x))
 }
 
-/// A sorted copy (total order: NaN last).
+/// A sorted copy (total order: NaN last; the statistics below return NaN for any NaN
+/// rather than sort it away).
 pub fn sorted(x: &[f64]) -> Vec<f64> {
     let mut v = x.to_vec();
     v.sort_by(f64::total_cmp);
     v
 }
 
-/// The median: the middle value, or the mean of the middle two; NaN for none.
+/// The median: the middle value, or the mean of the middle two; NaN for none, or where
+/// any value is NaN.
 pub fn median(x: &[f64]) -> f64 {
+    if has_nan(x) {
+        return f64::NAN;
+    }
     quantile_sorted(&sorted(x), 0.5)
 }
 
-/// The `q` quantile (0 ≤ q ≤ 1) of sorted values, linear between order statistics.
+fn has_nan(x: &[f64]) -> bool {
+    x.iter().any(|v| v.is_nan())
+}
+
+/// The `q` quantile (0 ≤ q ≤ 1) of sorted values, linear between order statistics; NaN
+/// for none, or where any value is NaN.
 pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
+    if sorted.is_empty() || has_nan(sorted) {
         return f64::NAN;
     }
     let h = (sorted.len() - 1) as f64 * q.clamp(0.0, 1.0);
@@ -68,8 +78,12 @@ pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
     sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
 }
 
-/// The interquartile mean: the mean after dropping ⌊n/4⌋ values from each end.
+/// The interquartile mean: the mean after dropping ⌊n/4⌋ values from each end; NaN
+/// where any value is NaN (not trimmed away as an outlier).
 pub fn iqm(x: &[f64]) -> f64 {
+    if has_nan(x) {
+        return f64::NAN;
+    }
     iqm_of_sorted(&sorted(x))
 }
 
@@ -79,15 +93,16 @@ fn iqm_of_sorted(sorted: &[f64]) -> f64 {
 }
 
 /// P(X > Y) + ½ P(X = Y) for one draw of each: the share of pairs (x, y) with x > y, ties
-/// counted as one half.
+/// counted as one half (−0 and +0 tie); NaN where any value is NaN.
 pub fn probability_of_improvement(x: &[f64], y: &[f64]) -> f64 {
     let mut wins = 0.0;
     for a in x {
         for b in y {
-            wins += match a.total_cmp(b) {
-                std::cmp::Ordering::Greater => 1.0,
-                std::cmp::Ordering::Equal => 0.5,
-                std::cmp::Ordering::Less => 0.0,
+            wins += match a.partial_cmp(b) {
+                Some(std::cmp::Ordering::Greater) => 1.0,
+                Some(std::cmp::Ordering::Equal) => 0.5,
+                Some(std::cmp::Ordering::Less) => 0.0,
+                None => return f64::NAN,
             };
         }
     }
@@ -248,6 +263,13 @@ mod tests {
     fn std_is_the_sample_std_and_zero_for_one_value() {
         assert_eq!(std(&[3.0]), 0.0);
         assert!(std(&[]).is_nan());
+        // A NaN is reported, not sorted to an end and trimmed away; signed zeros tie.
+        let with_nan = [1.0, 2.0, f64::NAN, 3.0, 4.0, 5.0, 6.0, 7.0];
+        assert!(iqm(&with_nan).is_nan() && median(&with_nan).is_nan());
+        assert!(probability_of_improvement(&with_nan, &[1.0]).is_nan());
+        assert_eq!(probability_of_improvement(&[-0.0], &[0.0]), 0.5);
+        let interval = Bootstrap::with_reps(100).aggregate(&with_nan, Aggregate::Iqm);
+        assert!(interval.point.is_nan() && interval.lo.is_nan() && interval.hi.is_nan());
         // Values 1..=4: mean 2.5, squares 5, over n − 1 = 3.
         assert!((std(&[1.0, 2.0, 3.0, 4.0]) - (5.0f64 / 3.0).sqrt()).abs() < 1e-15);
     }

@@ -114,6 +114,7 @@ impl Evaluator {
             seed: config.seed,
             min_steps: config.eval_steps,
             initial_states: config.eval_initial_states,
+            clip_actions: config.clip_actions,
         })
     }
 }

@@ -125,6 +125,8 @@ pub(super) struct Evaluator {
     pub(super) seed: u64,
     pub(super) min_steps: usize,
     pub(super) initial_states: EvalInitialStates,
+    /// `clip_actions`: the evaluated mean action is clipped as the sampled ones are.
+    pub(super) clip_actions: bool,
 }
 
 impl Evaluator {
@@ -146,7 +148,12 @@ impl Evaluator {
         policy: &ActingPolicy,
         k: usize,
     ) -> Result<Evaluation, TrainError> {
-        let (env, seed, min_steps) = (self.env.as_mut(), self.seed, self.min_steps);
+        let (env, seed, min_steps, clip) = (
+            self.env.as_mut(),
+            self.seed,
+            self.min_steps,
+            self.clip_actions,
+        );
         let mut fresh = streams::evaluation(seed, k);
         let initial_states = self.initial_states;
         let reset_seed = move |episode| match initial_states {
@@ -154,7 +161,7 @@ impl Evaluator {
             EvalInitialStates::Fresh => fresh.next_u64(),
         };
         Ok(in_phase("evaluation", || {
-            evaluate(env, policy, reset_seed, min_steps)
+            evaluate(env, policy, reset_seed, min_steps, clip)
         })?)
     }
 }
