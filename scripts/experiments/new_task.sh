@@ -1,0 +1,129 @@
+#!/usr/bin/env bash
+# A new task end to end (docs/new-task.md): from a dense task id to LOGO against TRPO on
+# its sparse version, with demonstrations made here as the LOGO authors made theirs.
+#   1. behaviour policy: TRPO on the dense reward, stopped when the sampled episodes'
+#      mean return reaches TARGET (a sub-optimal policy, as the paper's);
+#   2. demonstrations: EPISODES episodes of it (sampled actions) as a Minari dataset;
+#   3. LOGO (guided by them) and TRPO (not) on the sparse task, SEEDS seeds each; then
+#      `logo summary` (summary.md) and `logo plot` (curves.png).
+# Resumable: run it again and each step goes on from where it stopped (a finished step
+# is skipped). Every `logo` command is printed before it runs.
+#
+# Usage: new_task.sh TASK SPARSE TARGET
+#   TASK    a dense id of `logo envs`, e.g. Hopper-v4
+#   SPARSE  how its reward is made sparse: distance(<metres>) or delayed
+#   TARGET  the behaviour policy's stopping return (dense)
+# Settings, as environment variables (defaults in brackets):
+#   OUT [runs/new-task/<task>]  LOGO [./target/release/logo]
+#   BEHAVIOUR_ITERATIONS [500]  BEHAVIOUR_SAMPLES [5000]  EPISODES [20]
+#   ITERATIONS [100]  SAMPLES [20000]  SEEDS [0..3]  JOBS [1]
+#   DELTA0 [0.01]  ALPHA [0.95]  WARMUP [50]  (LOGO's guidance; the paper's locomotion
+#   values: δ_0 is a KL bound, so it transfers across tasks; K_δ and α set how long the
+#   guidance lasts, in iterations)
+set -euo pipefail
+
+usage() {
+  sed -n '/^# Usage/,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//' >&2
+  exit 2
+}
+
+# `distance(2)` or `delayed` as the TOML inline table of a config's [env] sparse.
+sparse_table() {
+  case "$1" in
+    distance\(*\))
+      local metres="${1#distance(}"
+      metres="${metres%)}"
+      [[ "$metres" =~ ^-?[0-9]+(\.[0-9]+)?$ ]] || {
+        echo "new_task.sh: SPARSE $1: the threshold must be a number of metres" >&2
+        exit 2
+      }
+      echo "{ kind = \"distance\", threshold = $metres }" ;;
+    delayed) echo '{ kind = "delayed" }' ;;
+    *)
+      echo "new_task.sh: SPARSE $1: expected distance(<metres>) or delayed" >&2
+      exit 2 ;;
+  esac
+}
+
+# Prints a command, then runs it.
+run() {
+  echo "+ $*" >&2
+  "$@"
+}
+
+main() {
+  [ $# -eq 3 ] || usage
+  local task="$1" sparse target="$3"
+  sparse="$(sparse_table "$2")"
+  [[ "$target" =~ ^-?[0-9]+(\.[0-9]+)?$ ]] || {
+    echo "new_task.sh: TARGET $target: expected a number" >&2
+    exit 2
+  }
+  local logo="${LOGO:-./target/release/logo}"
+  local out="${OUT:-runs/new-task/$(echo "$task" | tr '[:upper:]' '[:lower:]')}"
+  local configs="$out/configs"
+  [ -x "$logo" ] || {
+    echo "new_task.sh: $logo is not built (cargo build --release -p logo-cli, or set LOGO)" >&2
+    exit 2
+  }
+  mkdir -p "$configs"
+
+  # 1. The behaviour policy.
+  cat > "$configs/behaviour.toml" <<EOF
+# TRPO on the dense $task reward, stopped at a return of $target (new_task.sh, step 1).
+env = "$task"
+iterations = ${BEHAVIOUR_ITERATIONS:-500}
+samples_per_iter = ${BEHAVIOUR_SAMPLES:-5000}
+eval_steps = ${BEHAVIOUR_SAMPLES:-5000}
+max_kl = 0.01
+EOF
+  local behaviour="$out/behaviour"
+  if [ ! -f "$behaviour/done" ]; then
+    local stop=(--stop-at-return "$target" --stop-metric train)
+    if [ -f "$behaviour/checkpoint.safetensors" ]; then
+      run "$logo" train --resume "$behaviour" "${stop[@]}" --no-tensorboard | tee "$out/behaviour.log"
+    else
+      run "$logo" train --config "$configs/behaviour.toml" --out "$behaviour" "${stop[@]}" \
+        --no-tensorboard | tee "$out/behaviour.log"
+    fi
+    if ! grep -q "reached --stop-at-return" "$out/behaviour.log"; then
+      echo "new_task.sh: the behaviour policy did not reach $target in" \
+        "${BEHAVIOUR_ITERATIONS:-500} iterations; its last policy is recorded" >&2
+    fi
+    touch "$behaviour/done"
+  fi
+
+  # 2. The demonstrations.
+  local demos="$out/demos"
+  if [ ! -f "$demos/data/metadata.json" ]; then
+    run "$logo" data record --policy "$behaviour/checkpoint.safetensors" --env "$task" \
+      --episodes "${EPISODES:-20}" --seed 0 --out "$demos"
+  fi
+  run "$logo" data inspect "$demos"
+
+  # 3. LOGO and TRPO on the sparse task.
+  local common
+  common="$(cat <<EOF
+iterations = ${ITERATIONS:-100}
+samples_per_iter = ${SAMPLES:-20000}
+max_kl = 0.01
+
+[env]
+id = "$task"
+sparse = $sparse
+EOF
+)"
+  printf '# LOGO on %s made sparse (new_task.sh, step 3).\n%s\n\n[guidance]\ndemos = "../demos"\ndelta0 = %s\nalpha = %s\nwarmup = %s\n' \
+    "$task" "$common" "${DELTA0:-0.01}" "${ALPHA:-0.95}" "${WARMUP:-50}" > "$configs/logo.toml"
+  printf '# TRPO on %s made sparse, without guidance (new_task.sh, step 3).\n%s\n' \
+    "$task" "$common" > "$configs/trpo.toml"
+  run "$logo" sweep "$configs/logo.toml" "$configs/trpo.toml" --seeds "${SEEDS:-0..3}" \
+    --jobs "${JOBS:-1}" --out "$out/runs"
+  run "$logo" summary "$out/runs" > "$out/summary.md"
+  run "$logo" plot "$out/runs" --out "$out/curves.png"
+  cat "$out/summary.md"
+  echo "new_task.sh: behaviour $behaviour, demonstrations $demos, runs $out/runs," \
+    "summary $out/summary.md, curves $out/curves.png"
+}
+
+main "$@"
