@@ -44,6 +44,12 @@ holds seed*/ runs, and a .csv path is one run):
                                   recomputed here (20,000 resamples; the document's come
                                   from logo-stats' own stream, so only Monte-Carlo error
                                   may separate them)
+  compare  groups=A;B window=W     `logo summary --compare A B`'s table: per budget row
+                                  ("final", "at 2.00M, mean of 10"), P(A > B) (ties ½)
+                                  and the IQM difference A − B over the seeds' values,
+                                  exact as printed; interval ends within 0.05 (P) or 5%
+                                  of the seeds' range (difference) of a bootstrap over
+                                  independent resamples of A and B recomputed here
   cells    rXcY=STAT@GROUP ...    single cells (X, Y 1-based over body rows and columns)
            [quoted=...]
   evals    runs=PATH;PATH;...     one row per run: its eval-20.txt (`logo eval` output),
@@ -165,6 +171,29 @@ def iqm(values):
     v = sorted(values)
     cut = len(v) // 4
     return statistics.fmean(v[cut:len(v) - cut])
+
+
+def probability_of_improvement(x, y):
+    """P(X > Y) + P(X = Y) / 2 over all pairs (rliable's, one task)."""
+    wins = sum(1.0 if a > b else 0.5 if a == b else 0.0 for a in x for b in y)
+    return wins / (len(x) * len(y))
+
+
+def bootstrap_two(x, y, stat, reps=20_000, seed=0):
+    """95% percentile interval of stat(x, y) over independent resamples of x and y."""
+    import random
+    rng = random.Random(seed)
+    draws = sorted(
+        stat([x[rng.randrange(len(x))] for _ in x], [y[rng.randrange(len(y))] for _ in y])
+        for _ in range(reps)
+    )
+
+    def quantile(q):
+        h = (len(draws) - 1) * q
+        lo = math.floor(h)
+        return draws[lo] + (h - lo) * (draws[min(lo + 1, len(draws) - 1)] - draws[lo])
+
+    return quantile(0.025), quantile(0.975)
 
 
 def bootstrap_interval(values, stat, reps=20_000, seed=0):
@@ -485,6 +514,33 @@ def check_table(kind, opts, header, body):
                 )
                 if not ok:
                     wrong.append((r + 1, header[c], body[r][c], f"{point:.0f} [{lo:.0f}, {hi:.0f}]"))
+    elif kind == "compare":
+        # `logo summary --compare A B`: a row per budget, P(A > B) and the IQM difference
+        # A − B, each with its bootstrap interval (checked to 5% of the spread, as above).
+        window = int(opts["window"])
+        a_runs, b_runs = (
+            [evaluations(rows) for rows in group_runs(g)] for g in opts["groups"].split(";")
+        )
+        for r, row in enumerate(body):
+            label = row[0].strip()
+            m = re.fullmatch(r"final|at (.+?)(?:, mean of \d+)?", label)
+            if not m:
+                raise SystemExit(f"compare: budget {label!r} is not `logo summary`'s")
+            x = None if label == "final" else parse_samples(m.group(1))
+            at = lambda runs: [p[-1][1] if x is None else window_at(p, x, window) for p in runs]
+            xs, ys = at(a_runs), at(b_runs)
+            iqm_diff = lambda u, v: iqm(u) - iqm(v)
+            spread = max(xs + ys) - min(xs + ys)
+            for c, stat, tolerance in ((2, probability_of_improvement, 0.05), (3, iqm_diff, 0.05 * spread)):
+                point = stat(xs, ys)
+                lo, hi = bootstrap_two(xs, ys, stat)
+                doc = numbers(row[c])
+                checked += 1
+                ok = len(doc) >= 3 and abs(doc[0][0] - point) <= 0.5 * doc[0][1] + 1e-9 and all(
+                    abs(d - e) <= tolerance + 0.5 * unit for (d, unit), e in zip(doc[1:3], (lo, hi))
+                )
+                if not ok:
+                    wrong.append((r + 1, header[c], row[c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
     elif kind == "cells":
         for key, spec in opts.items():
             m = re.fullmatch(r"r(\d+)c(\d+)", key)

@@ -57,6 +57,14 @@ INTERVALS = """<!-- check intervals window=10 rows=paper-scale/hopper/hopper -->
 | LOGO | 3 | 2554 [1612, 3120] | 2518 [1441, 3141] |
 """
 
+# `logo summary --compare A B`: P(A > B) and the IQM difference per budget.
+COMPARE = """<!-- check compare window=10 groups=five-seeds-view/hopper/LOGO;five-seeds-view/hopper/LOGO+PPO+CDQ -->
+| budget | seeds | P(LOGO > LOGO+PPO+CDQ) [95% CI] | IQM difference [95% CI] |
+| --- | --- | --- | --- |
+| final | 5 vs 5 | 0.80 [0.44, 1.00] | 963 [-335, 2183] |
+| at 2.00M, mean of 10 | 5 vs 5 | 1.00 [1.00, 1.00] | 1549 [896, 2207] |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -69,7 +77,7 @@ def check(text):
 
 def main():
     failures = []
-    goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS)
+    goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -88,6 +96,10 @@ def main():
         "a wrong interval mean": INTERVALS.replace("2554 [", "2560 ["),
         "a wrong interval end": INTERVALS.replace("[1441, 3141]", "[1200, 3141]"),
         "a column summary does not print": INTERVALS.replace("IQM [95% CI]", "median [95% CI]"),
+        "a wrong probability of improvement": COMPARE.replace("0.80 [", "0.76 ["),
+        "a wrong IQM difference's interval": COMPARE.replace("[896, 2207]", "[500, 2207]"),
+        "the groups compared the other way": COMPARE.replace(
+            "LOGO;five-seeds-view/hopper/LOGO+PPO+CDQ", "LOGO+PPO+CDQ;five-seeds-view/hopper/LOGO"),
         "a wrong verdict": VERDICTS.replace("ahead (1677", "behind (1677"),
         "a wrong count of seeds above": VERDICTS.replace("2 of 3", "1 of 3"),
         "a wrong mean beside a verdict": VERDICTS.replace("2518 vs", "2600 vs"),
