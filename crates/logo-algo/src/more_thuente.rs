@@ -118,6 +118,10 @@ impl MoreThuente {
     }
 
     /// Takes φ(stp) = `f` and φ'(stp) = `g` at the current step.
+    ///
+    /// Long by design: a line-for-line port of MINPACK-2's `dcsrch` (as SciPy runs it),
+    /// checked against SciPy's steps; kept in the original's order so the two can be
+    /// read side by side.
     pub fn next(&mut self, f: f64, g: f64) -> Search {
         let stp = self.stp;
         let ftest = self.finit + stp * self.gtest;
@@ -217,6 +221,9 @@ impl MoreThuente {
 /// One safeguarded step of `dcstep`: from the interval's endpoints (stx the best step so
 /// far, sty the other end) and φ, φ' at the trial step, the next trial step, and the
 /// interval updated to keep bracketing.
+///
+/// Long by design: a line-for-line port of MINPACK-2's `dcstep`, its four cases in the
+/// original's order, checked against SciPy's steps.
 fn dcstep(iv: &mut Interval, fp: f64, dp: f64, stpmin: f64, stpmax: f64) {
     let Interval {
         stx,

@@ -176,6 +176,10 @@ impl Sampler {
     /// on the number of threads. Episodes mode gives each copy a quota of
     /// ceil(`samples` / copies) steps in whole episodes, then keeps the shortest prefix
     /// of at least `samples` steps of their episodes taken in turn (module doc).
+    ///
+    /// Long by design: each copy's loop (act, step, end an episode, stop at the quota) is
+    /// one closure run on the copy's thread; split, its episode and quota state would be
+    /// threaded through helpers that each need all of it.
     pub fn collect(
         &mut self,
         venv: &mut VecEnv,
@@ -262,27 +266,33 @@ impl Sampler {
         let mut per_copy_episodes = Vec::with_capacity(n);
         for (part, episodes, ep) in per_copy {
             batch.append(part);
-            per_copy_episodes.push(episodes.into_iter());
+            per_copy_episodes.push(episodes);
             self.episodes.push(ep);
         }
         if mode == RolloutMode::Episodes {
-            // The copies' episodes in turn, until the batch has `samples` steps.
-            'turns: loop {
-                let mut any = false;
-                for episodes in per_copy_episodes.iter_mut() {
-                    if batch.len() >= samples.max(1) {
-                        break 'turns;
-                    }
-                    if let Some(episode) = episodes.next() {
-                        batch.append(episode);
-                        any = true;
-                    }
-                }
-                if !any {
-                    break;
-                }
-            }
+            append_in_turns(&mut batch, per_copy_episodes, samples);
         }
         Ok(batch)
+    }
+}
+
+/// Episodes mode's cut: the copies' whole episodes taken in turn (copy 0's first, copy
+/// 1's first, ..., copy 0's second, ...) until the batch has `samples` steps.
+fn append_in_turns(batch: &mut Batch, per_copy: Vec<Vec<Batch>>, samples: usize) {
+    let mut per_copy: Vec<_> = per_copy.into_iter().map(Vec::into_iter).collect();
+    loop {
+        let mut any = false;
+        for episodes in per_copy.iter_mut() {
+            if batch.len() >= samples.max(1) {
+                return;
+            }
+            if let Some(episode) = episodes.next() {
+                batch.append(episode);
+                any = true;
+            }
+        }
+        if !any {
+            return;
+        }
     }
 }

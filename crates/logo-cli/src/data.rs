@@ -227,6 +227,75 @@ fn dataset_name(env_id: &str) -> String {
     name.trim_end_matches('-').to_string()
 }
 
+/// One episode from reset `seed`, acting with `act`: the episode as a dataset stores it
+/// (its sparse rewards where `sparse_rewards`, else the dense ones), its dense return and
+/// its sparse return.
+fn record_episode(
+    env: &mut dyn Env,
+    seed: u64,
+    act: impl Fn(&[f64], &mut ChaCha8Rng) -> Vec<f64>,
+    rng: &mut ChaCha8Rng,
+    sparse_rewards: bool,
+) -> Result<(Episode, f64, f64)> {
+    let mut obs = vec![0.0; env.spec().obs_dim];
+    env.reset(Some(seed), &mut obs);
+    let mut ep = Episode {
+        observations: obs.clone(),
+        ..Default::default()
+    };
+    let (mut dense, mut sparse) = (0.0, 0.0);
+    loop {
+        let action = act(&obs, rng);
+        let step = env.step(&action, &mut obs)?;
+        dense += step.info.dense_reward;
+        sparse += step.reward;
+        ep.actions.extend_from_slice(&action);
+        ep.observations.extend_from_slice(&obs);
+        ep.rewards.push(if sparse_rewards {
+            step.reward
+        } else {
+            step.info.dense_reward
+        });
+        ep.terminations.push(step.terminated);
+        ep.truncations.push(step.truncated);
+        if step.done() {
+            return Ok((ep, dense, sparse));
+        }
+    }
+}
+
+/// What a recording's metadata says of where it came from: the policy, how it acted, and
+/// each episode's dense and sparse return.
+fn recording_metadata(
+    dataset: &mut Dataset,
+    args: &RecordArgs,
+    meta: &logo_nn::CheckpointMeta,
+    dense_returns: &[f64],
+    sparse_returns: &[f64],
+) {
+    let m = &mut dataset.metadata;
+    m.insert(
+        "dataset_id".into(),
+        args.dataset_id
+            .clone()
+            .unwrap_or_else(|| format!("logo/{}-recorded-v0", dataset_name(&args.env)))
+            .into(),
+    );
+    m.insert(
+        "logo_policy".into(),
+        args.policy.display().to_string().into(),
+    );
+    m.insert(
+        "logo_policy_algorithm".into(),
+        meta.algorithm.clone().into(),
+    );
+    m.insert("logo_policy_iteration".into(), meta.iteration.into());
+    m.insert("logo_deterministic".into(), args.deterministic.into());
+    m.insert("logo_seed".into(), args.seed.into());
+    m.insert("logo_dense_returns".into(), json!(dense_returns));
+    m.insert("logo_sparse_returns".into(), json!(sparse_returns));
+}
+
 fn record(args: &RecordArgs) -> Result<()> {
     anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
     let (policy, meta) = load_policy(&args.policy)?;
@@ -256,36 +325,17 @@ fn record(args: &RecordArgs) -> Result<()> {
     let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
     let mut episodes = Vec::new();
     let (mut dense_returns, mut sparse_returns) = (Vec::new(), Vec::new());
-    let mut obs = vec![0.0; spec.obs_dim];
     for k in 0..args.episodes {
-        env.reset(Some(args.seed * 1_000_003 + k as u64), &mut obs);
-        let mut ep = Episode {
-            observations: obs.clone(),
-            ..Default::default()
-        };
-        let (mut dense, mut sparse) = (0.0, 0.0);
-        loop {
-            let action = if args.deterministic {
-                acting.mean(&obs)
+        let seed = args.seed * 1_000_003 + k as u64;
+        let act = |obs: &[f64], rng: &mut ChaCha8Rng| {
+            if args.deterministic {
+                acting.mean(obs)
             } else {
-                acting.sample(&obs, &mut rng)
-            };
-            let step = env.step(&action, &mut obs)?;
-            dense += step.info.dense_reward;
-            sparse += step.reward;
-            ep.actions.extend_from_slice(&action);
-            ep.observations.extend_from_slice(&obs);
-            ep.rewards.push(if sparse_requested {
-                step.reward
-            } else {
-                step.info.dense_reward
-            });
-            ep.terminations.push(step.terminated);
-            ep.truncations.push(step.truncated);
-            if step.done() {
-                break;
+                acting.sample(obs, rng)
             }
-        }
+        };
+        let (ep, dense, sparse) =
+            record_episode(env.as_mut(), seed, act, &mut rng, sparse_requested)?;
         dense_returns.push(dense);
         sparse_returns.push(sparse);
         episodes.push(ep);
@@ -297,27 +347,7 @@ fn record(args: &RecordArgs) -> Result<()> {
         metadata: Default::default(),
     };
     env_metadata(&mut dataset, &args.env, &spec);
-    let m = &mut dataset.metadata;
-    m.insert(
-        "dataset_id".into(),
-        args.dataset_id
-            .clone()
-            .unwrap_or_else(|| format!("logo/{}-recorded-v0", dataset_name(&args.env)))
-            .into(),
-    );
-    m.insert(
-        "logo_policy".into(),
-        args.policy.display().to_string().into(),
-    );
-    m.insert(
-        "logo_policy_algorithm".into(),
-        meta.algorithm.clone().into(),
-    );
-    m.insert("logo_policy_iteration".into(), meta.iteration.into());
-    m.insert("logo_deterministic".into(), args.deterministic.into());
-    m.insert("logo_seed".into(), args.seed.into());
-    m.insert("logo_dense_returns".into(), json!(dense_returns));
-    m.insert("logo_sparse_returns".into(), json!(sparse_returns));
+    recording_metadata(&mut dataset, args, &meta, &dense_returns, &sparse_returns);
     write_minari(&dataset, &args.out)?;
     let (dm, ds) = mean_std(&dense_returns);
     let (sm, ss) = mean_std(&sparse_returns);

@@ -15,8 +15,8 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::engine::{EngineArgs, WithEngine};
 use crate::video::{Video, VideoArgs};
-use logo_algo::TrainConfig;
 use logo_algo::episode::{Episode, run_episode_with};
+use logo_algo::{EngineSpan, TrainConfig};
 use logo_stats::mean_std;
 
 #[derive(Args)]
@@ -120,29 +120,15 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         );
     }
     let (policy, meta) = load_policy(&args.checkpoint)?;
-    let meta = &meta;
-    let history = logo_algo::engine_history(meta)
+    let history = logo_algo::engine_history(&meta)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.checkpoint.display()))?;
     let last = history.last().map(|span| span.engine.as_str());
     let (engine_args, _) = args.engine.or_trained_on(last, EngineArgs::on_cpu);
     let (acting, engine) = engine_args.with(OnEngine(&policy))?;
     if args.json {
-        // At least the 20 episodes of a run's eval.json (--episodes may ask for more).
-        let episodes = args.episodes.max(crate::final_eval::EPISODES);
-        let env = evaluated_env(meta);
-        let mut report = crate::final_eval::report(&env, &acting, meta.seed, episodes)?;
-        report["checkpoint"] = args.checkpoint.display().to_string().into();
-        report["iteration"] = meta.iteration.into();
-        report["env"] = env.into();
-        report["engine"] = engine.into();
-        println!("{}", serde_json::to_string_pretty(&report)?);
-        return Ok(());
+        return print_json(args, &meta, &acting, engine);
     }
-    let trained_on = history
-        .iter()
-        .map(|span| format!("{} from iteration {}", span.engine, span.from_iteration))
-        .collect::<Vec<_>>()
-        .join(", ");
+    println!("{}", header(args, &meta, &history, &engine));
     // The dense task, and the sparse one trained on (LOGO's for a dense checkpoint).
     let dense_id = logo_envs::dense_id(&meta.env_id).to_string();
     let sparse_id = if meta.env_id == dense_id {
@@ -152,22 +138,47 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     };
     let ids = match &args.env {
         Some(id) => vec![id.clone()],
-        None => vec![dense_id.clone(), sparse_id],
+        None => vec![dense_id, sparse_id],
     };
-    let acts = format!(
-        "{}{}",
-        if args.sample {
-            "sampled actions"
-        } else {
-            "mean action"
-        },
-        if args.clip_actions {
-            " clipped to the actuator range"
-        } else {
-            ""
-        }
-    );
-    println!(
+    for (i, id) in ids.iter().enumerate() {
+        evaluate_on(args, &meta, &acting, id, i == 0)?;
+    }
+    Ok(())
+}
+
+/// `--json`: what a run's eval.json holds for this policy.
+fn print_json(
+    args: &EvalArgs,
+    meta: &CheckpointMeta,
+    acting: &ActingPolicy,
+    engine: String,
+) -> Result<()> {
+    // At least the 20 episodes of a run's eval.json (--episodes may ask for more).
+    let episodes = args.episodes.max(crate::final_eval::EPISODES);
+    let env = evaluated_env(meta);
+    let mut report = crate::final_eval::report(&env, acting, meta.seed, episodes)?;
+    report["checkpoint"] = args.checkpoint.display().to_string().into();
+    report["iteration"] = meta.iteration.into();
+    report["env"] = env.into();
+    report["engine"] = engine.into();
+    println!("{}", serde_json::to_string_pretty(&report)?);
+    Ok(())
+}
+
+/// The first line: the checkpoint, what trained it, and how it acts here.
+fn header(args: &EvalArgs, meta: &CheckpointMeta, history: &[EngineSpan], engine: &str) -> String {
+    let trained_on = history
+        .iter()
+        .map(|span| format!("{} from iteration {}", span.engine, span.from_iteration))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let acts = match (args.sample, args.clip_actions) {
+        (true, false) => "sampled actions",
+        (true, true) => "sampled actions clipped to the actuator range",
+        (false, false) => "mean action",
+        (false, true) => "mean action clipped to the actuator range",
+    };
+    format!(
         "{} ({} iteration {}, seed {}; trained on {}): {acts} on {engine}, {} episodes",
         args.checkpoint.display(),
         meta.algorithm,
@@ -179,72 +190,81 @@ pub fn run(args: &EvalArgs) -> Result<()> {
             &trained_on
         },
         args.episodes
+    )
+}
+
+/// `--episodes` episodes on env `id`, and their summary line (a video of the first env's
+/// episodes where `--video` asks for one).
+fn evaluate_on(
+    args: &EvalArgs,
+    meta: &CheckpointMeta,
+    acting: &ActingPolicy,
+    id: &str,
+    first: bool,
+) -> Result<()> {
+    // Name where the id came from: the flag, or the checkpoint's metadata.
+    let source = match &args.env {
+        Some(_) => format!("--env {id}"),
+        None => format!("{}: env_id {id}", args.checkpoint.display()),
+    };
+    let factory = EnvFactory::new(id, &EnvOptions::default()).with_context(|| source)?;
+    let mut env = factory.build();
+    let spec = env.spec().clone();
+    anyhow::ensure!(
+        (spec.obs_dim, spec.act_dim) == (meta.obs_dim, meta.act_dim),
+        "{id} has obs/action dims ({}, {}), the checkpoint's policy ({}, {})",
+        spec.obs_dim,
+        spec.act_dim,
+        meta.obs_dim,
+        meta.act_dim
     );
-    for (i, id) in ids.iter().enumerate() {
-        // Name where the id came from: the flag, or the checkpoint's metadata.
-        let source = match &args.env {
-            Some(_) => format!("--env {id}"),
-            None => format!("{}: env_id {id}", args.checkpoint.display()),
+    let mut video = match (&args.video.video, first) {
+        (Some(path), true) => Some(Video::start(path, &factory, args.video.frames())?),
+        _ => None,
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
+    let mut act = |obs: &[f64]| {
+        let mut action = if args.sample {
+            acting.sample(obs, &mut rng)
+        } else {
+            acting.mean(obs)
         };
-        let factory = EnvFactory::new(id, &EnvOptions::default()).with_context(|| source)?;
-        let mut env = factory.build();
-        let spec = env.spec().clone();
-        anyhow::ensure!(
-            (spec.obs_dim, spec.act_dim) == (meta.obs_dim, meta.act_dim),
-            "{id} has obs/action dims ({}, {}), the checkpoint's policy ({}, {})",
-            spec.obs_dim,
-            spec.act_dim,
-            meta.obs_dim,
-            meta.act_dim
-        );
-        let mut video = match (&args.video.video, i) {
-            (Some(path), 0) => Some(Video::start(path, &factory, args.video.frames())?),
-            _ => None,
-        };
-        let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
-        let mut act = |obs: &[f64]| {
-            let mut action = if args.sample {
-                acting.sample(obs, &mut rng)
-            } else {
-                acting.mean(obs)
-            };
-            if args.clip_actions {
-                clip_to_range(&mut action, &spec.action_low, &spec.action_high);
-            }
-            action
-        };
-        let mut episodes = Vec::new();
-        let mut splits = Vec::new();
-        for k in 0..args.episodes {
-            let mut split = args.split_at.map(SplitTracker::new);
-            let label = format!("episode {} | ", k + 1);
-            let episode = run_episode_with(
-                env.as_mut(),
-                args.seed + k as u64,
-                &mut act,
-                |env, e: &Episode| {
-                    if let Some(split) = split.as_mut() {
-                        split.observe(e);
-                    }
-                    match video.as_mut() {
-                        Some(video) => video.episode_frame(env, &label, e),
-                        None => Ok(()),
-                    }
-                },
-            )?;
-            if let Some(split) = split {
-                splits.push(split.finish(&episode, spec.dt));
-            }
-            episodes.push(episode);
+        if args.clip_actions {
+            clip_to_range(&mut action, &spec.action_low, &spec.action_high);
         }
-        if let (Some(video), Some(path)) = (video, &args.video.video) {
-            let frames = video.finish()?;
-            println!("video: {} ({frames} frames of {id})", path.display());
+        action
+    };
+    let mut episodes = Vec::new();
+    let mut splits = Vec::new();
+    for k in 0..args.episodes {
+        let mut split = args.split_at.map(SplitTracker::new);
+        let label = format!("episode {} | ", k + 1);
+        let episode = run_episode_with(
+            env.as_mut(),
+            args.seed + k as u64,
+            &mut act,
+            |env, e: &Episode| {
+                if let Some(split) = split.as_mut() {
+                    split.observe(e);
+                }
+                match video.as_mut() {
+                    Some(video) => video.episode_frame(env, &label, e),
+                    None => Ok(()),
+                }
+            },
+        )?;
+        if let Some(split) = split {
+            splits.push(split.finish(&episode, spec.dt));
         }
-        println!("{id:32} {}", summary(&episodes));
-        if let Some(metres) = args.split_at {
-            println!("{:32} {}", "", split_summary(metres, &splits));
-        }
+        episodes.push(episode);
+    }
+    if let (Some(video), Some(path)) = (video, &args.video.video) {
+        let frames = video.finish()?;
+        println!("video: {} ({frames} frames of {id})", path.display());
+    }
+    println!("{id:32} {}", summary(&episodes));
+    if let Some(metres) = args.split_at {
+        println!("{:32} {}", "", split_summary(metres, &splits));
     }
     Ok(())
 }

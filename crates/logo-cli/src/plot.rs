@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail, ensure};
 use clap::{Args, ValueEnum};
 use logo_stats::{Aggregate, Bootstrap, mean_std};
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::runs::{
@@ -308,22 +309,21 @@ pub fn run(args: &PlotArgs) -> Result<()> {
     let externals = external_curves(&args.externals, args.smooth, args.max_samples)?;
     let csv_path = args.out.with_extension("csv");
     write_csv(&csv_path, curves.iter().chain(&externals))?;
+    let figure = Figure {
+        curves: &curves,
+        externals: &externals,
+        hlines: &hlines,
+        title: &title,
+        y_label: &metric.label(),
+    };
     match args.out.extension().and_then(|e| e.to_str()) {
         Some("png") => draw(
             BitMapBackend::new(&args.out, (960, 600)).into_drawing_area(),
-            &curves,
-            &externals,
-            &hlines,
-            &title,
-            &metric.label(),
+            &figure,
         ),
         Some("svg") => draw(
             SVGBackend::new(&args.out, (960, 600)).into_drawing_area(),
-            &curves,
-            &externals,
-            &hlines,
-            &title,
-            &metric.label(),
+            &figure,
         ),
         _ => bail!(
             "--out {}: the figure must end in .png or .svg",
@@ -342,13 +342,19 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         },
         csv_path.display()
     );
+    print_ends(&curves);
+    Ok(())
+}
+
+/// Each curve's last point, as people copy it into tables.
+fn print_ends(curves: &[Curve]) {
     let (lo, hi) = curves
         .iter()
         .flat_map(|c| &c.mean)
         .fold((f64::MAX, f64::MIN), |(lo, hi), &y| (lo.min(y), hi.max(y)));
     // One decimal more than the axis: these are the numbers people copy into tables.
     let value = |y: f64| format_value(y, (hi - lo) / 10.0);
-    for c in &curves {
+    for c in curves {
         let last = c.mean.len() - 1;
         println!(
             "  {:30} {} seeds, at {:.0} samples: {} ± {}",
@@ -359,8 +365,19 @@ pub fn run(args: &PlotArgs) -> Result<()> {
             value(c.std[last])
         );
     }
-    Ok(())
 }
+
+/// What a figure shows: the runs' curves with their bands, outside curves, horizontal
+/// lines, and its labels.
+struct Figure<'a> {
+    curves: &'a [Curve],
+    externals: &'a [Curve],
+    hlines: &'a [(String, f64)],
+    title: &'a str,
+    y_label: &'a str,
+}
+
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 fn write_csv<'a>(path: &Path, curves: impl IntoIterator<Item = &'a Curve>) -> Result<()> {
     let mut w = csv::Writer::from_path(path).with_context(|| format!("{}", path.display()))?;
@@ -396,11 +413,7 @@ pub(crate) fn register_font() {
 
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
-    curves: &[Curve],
-    externals: &[Curve],
-    hlines: &[(String, f64)],
-    title: &str,
-    y_label: &str,
+    figure: &Figure,
 ) -> Result<()>
 where
     DB::ErrorType: 'static,
@@ -408,16 +421,19 @@ where
     register_font();
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("{e:?}");
     root.fill(&WHITE).map_err(err)?;
+    let Figure {
+        curves, externals, ..
+    } = figure;
     let x_max = curves
         .iter()
-        .chain(externals)
+        .chain(*externals)
         .map(|c| *c.samples.last().expect("a curve has points"))
         .fold(1.0, f64::max);
     let ys = curves
         .iter()
-        .chain(externals)
+        .chain(*externals)
         .flat_map(|c| c.lo.iter().chain(&c.hi).copied())
-        .chain(hlines.iter().map(|h| h.1));
+        .chain(figure.hlines.iter().map(|h| h.1));
     let (y_min, y_max) = ys.fold((f64::MAX, f64::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
     let pad = if y_max > y_min {
         (y_max - y_min) * 0.05
@@ -425,7 +441,7 @@ where
         y_max.abs().max(1.0) * 0.05
     };
     let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 26))
+        .caption(figure.title, ("sans-serif", 26))
         .margin(16)
         .x_label_area_size(48)
         .y_label_area_size(72)
@@ -434,7 +450,7 @@ where
     chart
         .configure_mesh()
         .x_desc("samples")
-        .y_desc(y_label)
+        .y_desc(figure.y_label)
         .x_label_formatter(&|x| format_samples(*x))
         .y_label_formatter(&|y| format_value(*y, y_max - y_min))
         .label_style(("sans-serif", 15))
@@ -442,7 +458,27 @@ where
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(err)?;
-    for (i, c) in curves.iter().enumerate() {
+    draw_lines(&mut chart, figure, x_max).map_err(err)?;
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font(("sans-serif", 15))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.3))
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// The runs' curves over their bands, the outside curves, the horizontal lines, each
+/// with its legend entry.
+fn draw_lines<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    figure: &Figure,
+    x_max: f64,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    for (i, c) in figure.curves.iter().enumerate() {
         let color = line_color(i);
         let band: Vec<(f64, f64)> = c
             .samples
@@ -451,34 +487,30 @@ where
             .zip(c.hi.iter().copied())
             .chain(c.samples.iter().copied().zip(c.lo.iter().copied()).rev())
             .collect();
-        chart
-            .draw_series(std::iter::once(Polygon::new(
-                band,
-                color.mix(0.18).filled(),
-            )))
-            .map_err(err)?;
+        chart.draw_series(std::iter::once(Polygon::new(
+            band,
+            color.mix(0.18).filled(),
+        )))?;
         chart
             .draw_series(LineSeries::new(
                 c.samples.iter().copied().zip(c.line.iter().copied()),
                 color.stroke_width(2),
-            ))
-            .map_err(err)?
+            ))?
             .label(format!("{} (n = {})", c.group, c.seeds))
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
     }
     // Outside curves: one seed each, no band, thinner, in colours after the runs'.
-    for (i, c) in externals.iter().enumerate() {
-        let color = line_color(curves.len() + i);
+    for (i, c) in figure.externals.iter().enumerate() {
+        let color = line_color(figure.curves.len() + i);
         chart
             .draw_series(LineSeries::new(
                 c.samples.iter().copied().zip(c.mean.iter().copied()),
                 color.stroke_width(1),
-            ))
-            .map_err(err)?
+            ))?
             .label(format!("{} (1 run)", c.group))
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(1)));
     }
-    for (i, (name, value)) in hlines.iter().enumerate() {
+    for (i, (name, value)) in figure.hlines.iter().enumerate() {
         let color = if i % 2 == 0 {
             BLACK.mix(0.6)
         } else {
@@ -490,20 +522,10 @@ where
                 8,
                 5,
                 color.stroke_width(1),
-            ))
-            .map_err(err)?
+            ))?
             .label(format!("{name} = {value}"))
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(1)));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .label_font(("sans-serif", 15))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.3))
-        .draw()
-        .map_err(err)?;
-    root.present().map_err(err)?;
     Ok(())
 }
 

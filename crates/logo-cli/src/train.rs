@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use logo_algo::episode::evaluation_seed;
 use logo_algo::run_dir::{BEST, CHECKPOINT};
-use logo_algo::{Schedule, TrainConfig, Trainer};
+use logo_algo::{IterationMetrics, Schedule, TrainConfig, Trainer};
 use logo_envs::{EnvFactory, EnvOptions};
 use logo_nn::{Checkpoint, Engine, Policy};
 
@@ -201,53 +201,15 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         tensorboard,
         video_every,
     } = job;
-    let (mut trainer, out) = match start {
-        Start::New(config, out) => {
-            let trainer =
-                Trainer::new(engine, *config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
-            (trainer, out)
-        }
-        Start::Resume(dir, iterations) => {
-            let trainer = Trainer::resume(engine, &dir, iterations)
-                .map_err(|e| anyhow::anyhow!("{e}"))
-                .with_context(|| format!("--resume {}", dir.display()))?;
-            println!(
-                "resuming {} after iteration {}",
-                dir.display(),
-                trainer.iteration()
-            );
-            // The evaluation of an earlier end: the new end writes its own.
-            if !trainer.done() {
-                let stale = dir.join("eval.json");
-                if stale.is_file() {
-                    std::fs::remove_file(&stale).with_context(|| format!("{}", stale.display()))?;
-                }
-            }
-            (trainer, dir)
-        }
-    };
+    let (mut trainer, out) = open(engine, start)?;
     trainer.set_schedule(schedule);
     if tensorboard {
         trainer
             .write_tensorboard()
             .map_err(|e| anyhow::anyhow!("{e}"))?;
     }
-    let config = trainer.config.clone();
-    println!(
-        "{} on {} (evaluated on {}), {} iterations x {} samples, seed {}, {} envs on {} threads, {} -> {}",
-        config.algorithm(),
-        config.env,
-        config.evaluated_env(),
-        config.iterations,
-        config.samples_per_iter,
-        config.seed,
-        config.num_envs,
-        config.threads,
-        trainer.engine().describe(),
-        out.display()
-    );
+    println!("{}", start_line(&trainer, &out));
     let total = trainer.config.iterations;
-    let guided = trainer.config.guidance.is_some();
     let mut last = None;
     // The speed is this invocation's: a resumed run's wall_s also holds earlier
     // invocations' time, perhaps under another load or on another machine.
@@ -260,36 +222,19 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
             record_iteration(&trainer, &out, m.iteration + 1)?;
         }
         let per_iter = started.elapsed().as_secs_f64() / made as f64;
-        println!(
-            "[{:>4}/{total}] samples {:>9} | sparse {:>9.2} | eval dense {:>9.2} | kl {:.4}{} | {:.2} s/it, ETA {:.0} s",
-            m.iteration + 1,
-            m.samples,
-            m.train_sparse_return,
-            m.eval_dense_return,
-            m.kl,
-            // δ_k exists only where there is a guidance step.
-            if guided {
-                format!(" | δk {:.3e}", m.delta_k)
-            } else {
-                String::new()
-            },
-            per_iter,
-            per_iter * (total - m.iteration - 1) as f64
-        );
+        println!("{}", progress_line(&m, &trainer.config, per_iter));
         let reached = stop.is_some_and(|(target, metric)| match metric {
             StopMetric::Eval => m.eval_dense_return >= target,
             StopMetric::Train => m.train_sparse_return >= target,
         });
         last = Some(m);
-        if reached {
+        if let (true, Some((target, metric))) = (reached, stop) {
             let path = out.join(CHECKPOINT);
             trainer
                 .save_checkpoint(&path)
                 .map_err(|e| anyhow::anyhow!("{e}"))?;
             println!(
-                "reached --stop-at-return {} ({:?} return): stopped, policy in {}",
-                stop.map_or(0.0, |s| s.0),
-                stop.map_or(StopMetric::Eval, |s| s.1),
+                "reached --stop-at-return {target} ({metric:?} return): stopped, policy in {}",
                 path.display()
             );
             break;
@@ -314,6 +259,73 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         out.join(CHECKPOINT).display()
     );
     end_of_run_evaluation(&trainer, &out)
+}
+
+/// The trainer of a new run or of a resumed one, and its folder.
+fn open<E: Engine>(engine: E, start: Start) -> Result<(Trainer<E>, PathBuf)> {
+    match start {
+        Start::New(config, out) => {
+            let trainer =
+                Trainer::new(engine, *config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
+            Ok((trainer, out))
+        }
+        Start::Resume(dir, iterations) => {
+            let trainer = Trainer::resume(engine, &dir, iterations)
+                .map_err(|e| anyhow::anyhow!("{e}"))
+                .with_context(|| format!("--resume {}", dir.display()))?;
+            println!(
+                "resuming {} after iteration {}",
+                dir.display(),
+                trainer.iteration()
+            );
+            // The evaluation of an earlier end: the new end writes its own.
+            if !trainer.done() {
+                let stale = dir.join("eval.json");
+                if stale.is_file() {
+                    std::fs::remove_file(&stale).with_context(|| format!("{}", stale.display()))?;
+                }
+            }
+            Ok((trainer, dir))
+        }
+    }
+}
+
+/// What is trained, on what, and where to.
+fn start_line<E: Engine>(trainer: &Trainer<E>, out: &Path) -> String {
+    let config = &trainer.config;
+    format!(
+        "{} on {} (evaluated on {}), {} iterations x {} samples, seed {}, {} envs on {} threads, {} -> {}",
+        config.algorithm(),
+        config.env,
+        config.evaluated_env(),
+        config.iterations,
+        config.samples_per_iter,
+        config.seed,
+        config.num_envs,
+        config.threads,
+        trainer.engine().describe(),
+        out.display()
+    )
+}
+
+/// One iteration's progress line, with the speed so far and the time left.
+fn progress_line(m: &IterationMetrics, config: &TrainConfig, per_iter: f64) -> String {
+    let total = config.iterations;
+    // δ_k exists only where there is a guidance step.
+    let delta = match config.guidance {
+        Some(_) => format!(" | δk {:.3e}", m.delta_k),
+        None => String::new(),
+    };
+    format!(
+        "[{:>4}/{total}] samples {:>9} | sparse {:>9.2} | eval dense {:>9.2} | kl {:.4}{delta} | {:.2} s/it, ETA {:.0} s",
+        m.iteration + 1,
+        m.samples,
+        m.train_sparse_return,
+        m.eval_dense_return,
+        m.kl,
+        per_iter,
+        per_iter * (total - m.iteration - 1) as f64
+    )
 }
 
 /// `eval.json`: the final and the best policy (the first to reach the highest evaluation

@@ -161,6 +161,50 @@ pub fn import_logo_npy(
     Dataset::checked(obs_dim, act_dim, episodes, metadata, path)
 }
 
+/// A D4RL file's flat columns, one row per step.
+struct D4rlColumns<'a> {
+    obs: &'a [f64],
+    next_obs: Option<&'a [f64]>,
+    actions: &'a [f64],
+    rewards: &'a [f64],
+    terminals: &'a [bool],
+    timeouts: &'a [bool],
+}
+
+impl D4rlColumns<'_> {
+    /// The rows cut into episodes at each terminal or timeout (and at the end).
+    fn episodes(&self, obs_dim: usize, act_dim: usize) -> Vec<Episode> {
+        let (n, obs, terminals, timeouts) =
+            (self.rewards.len(), self.obs, self.terminals, self.timeouts);
+        let mut episodes = Vec::new();
+        let mut start = 0;
+        for i in 0..n {
+            let last = i + 1 == n;
+            if !(terminals[i] || timeouts[i] || last) {
+                continue;
+            }
+            let end = i + 1;
+            let mut observations = obs[start * obs_dim..end * obs_dim].to_vec();
+            // The final observation: next_observations when given, else the next row
+            // (the next episode's first state is not this one's successor, so repeat the
+            // last).
+            let last_row = self.next_obs.unwrap_or(obs);
+            observations.extend_from_slice(&last_row[i * obs_dim..end * obs_dim]);
+            episodes.push(Episode {
+                observations,
+                actions: self.actions[start * act_dim..end * act_dim].to_vec(),
+                rewards: self.rewards[start..end].to_vec(),
+                terminations: terminals[start..end].to_vec(),
+                truncations: (start..end)
+                    .map(|k| timeouts[k] || (k + 1 == n && !terminals[k]))
+                    .collect(),
+            });
+            start = end;
+        }
+        episodes
+    }
+}
+
 /// Imports a D4RL-style flat HDF5 file.
 pub fn import_d4rl(path: &Path) -> Result<Dataset, DataError> {
     let bytes = std::fs::read(path).map_err(|source| DataError::Io {
@@ -216,34 +260,15 @@ pub fn import_d4rl(path: &Path) -> Result<Dataset, DataError> {
             ));
         }
     }
-    let mut episodes = Vec::new();
-    let mut start = 0;
-    for i in 0..n {
-        let last = i + 1 == n;
-        if !(terminals[i] || timeouts[i] || last) {
-            continue;
-        }
-        let end = i + 1;
-        let mut observations = obs[start * obs_dim..end * obs_dim].to_vec();
-        // The final observation: next_observations when given, else the next row (the
-        // next episode's first state is not this one's successor, so repeat the last).
-        match &next_obs {
-            Some((next, _)) => observations.extend_from_slice(&next[i * obs_dim..end * obs_dim]),
-            None => observations.extend_from_slice(&obs[i * obs_dim..end * obs_dim]),
-        }
-        let t = end - start;
-        episodes.push(Episode {
-            observations,
-            actions: actions[start * act_dim..end * act_dim].to_vec(),
-            rewards: rewards[start..end].to_vec(),
-            terminations: terminals[start..end].to_vec(),
-            truncations: (start..end)
-                .map(|k| timeouts[k] || (k + 1 == n && !terminals[k]))
-                .collect(),
-        });
-        debug_assert_eq!(episodes.last().map(Episode::steps), Some(t));
-        start = end;
-    }
+    let columns = D4rlColumns {
+        obs: &obs,
+        next_obs: next_obs.as_ref().map(|(next, _)| next.as_slice()),
+        actions: &actions,
+        rewards: &rewards,
+        terminals: &terminals,
+        timeouts: &timeouts,
+    };
+    let episodes = columns.episodes(obs_dim, act_dim);
     let mut metadata = Map::new();
     metadata.insert("logo_source".into(), path.display().to_string().into());
     Dataset::checked(obs_dim, act_dim, episodes, metadata, path)

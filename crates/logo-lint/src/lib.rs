@@ -334,14 +334,75 @@ fn collect_use(
     into: &mut Module,
     file: &Path,
 ) {
-    let record = |segments: Vec<String>,
-                  alias: Option<String>,
-                  glob: bool,
-                  into: &mut Module,
-                  line: usize| {
-        // Child modules are not known yet while `use` items are read: treat a
-        // first segment that is not crate/super/self as a child and let resolution
-        // drop it if no such module exists.
+    let mut record = |segments: Vec<String>, alias: Option<String>, glob: bool, line: usize| {
+        let import = UseImport {
+            segments,
+            alias,
+            glob,
+            line,
+        };
+        import.record(module, into, file);
+    };
+    match tree {
+        syn::UseTree::Path(p) => {
+            prefix.push(p.ident.to_string());
+            collect_use(module, &p.tree, prefix, into, file);
+            prefix.pop();
+        }
+        syn::UseTree::Name(n) => {
+            let name = n.ident.to_string();
+            let mut segments = prefix.clone();
+            // `use a::b::{self}` names the module `b` itself.
+            let alias = if name == "self" {
+                prefix.last().cloned()
+            } else {
+                Some(name.clone())
+            };
+            if name != "self" {
+                segments.push(name);
+            }
+            record(segments, alias, false, line_of(n.ident.span()));
+        }
+        syn::UseTree::Rename(r) => {
+            let mut segments = prefix.clone();
+            if r.ident != "self" {
+                segments.push(r.ident.to_string());
+            }
+            let alias = Some(r.rename.to_string());
+            record(segments, alias, false, line_of(r.ident.span()));
+        }
+        syn::UseTree::Glob(g) => {
+            record(prefix.clone(), None, true, line_of(g.star_token.spans[0]));
+        }
+        syn::UseTree::Group(g) => {
+            for tree in &g.items {
+                collect_use(module, tree, prefix, into, file);
+            }
+        }
+    }
+}
+
+/// One name a `use` item brings in: its path, the name it is known by, and whether it
+/// is a glob.
+struct UseImport {
+    segments: Vec<String>,
+    alias: Option<String>,
+    glob: bool,
+    line: usize,
+}
+
+impl UseImport {
+    /// Adds the import to `into`, the module `module` of `file`.
+    fn record(self, module: &[String], into: &mut Module, file: &Path) {
+        let UseImport {
+            segments,
+            alias,
+            glob,
+            line,
+        } = self;
+        // Child modules are not known yet while `use` items are read: treat a first
+        // segment that is not crate/super/self as a child and let resolution drop it if
+        // no such module exists.
         let mut children = BTreeSet::new();
         if let Some(first) = segments.first() {
             children.insert(first.clone());
@@ -363,54 +424,6 @@ fn collect_use(
             ),
             path,
         });
-    };
-    match tree {
-        syn::UseTree::Path(p) => {
-            prefix.push(p.ident.to_string());
-            collect_use(module, &p.tree, prefix, into, file);
-            prefix.pop();
-        }
-        syn::UseTree::Name(n) => {
-            let name = n.ident.to_string();
-            let mut segments = prefix.clone();
-            // `use a::b::{self}` names the module `b` itself.
-            let alias = if name == "self" {
-                prefix.last().cloned()
-            } else {
-                Some(name.clone())
-            };
-            if name != "self" {
-                segments.push(name);
-            }
-            record(segments, alias, false, into, line_of(n.ident.span()));
-        }
-        syn::UseTree::Rename(r) => {
-            let mut segments = prefix.clone();
-            if r.ident != "self" {
-                segments.push(r.ident.to_string());
-            }
-            record(
-                segments,
-                Some(r.rename.to_string()),
-                false,
-                into,
-                line_of(r.ident.span()),
-            );
-        }
-        syn::UseTree::Glob(g) => {
-            record(
-                prefix.clone(),
-                None,
-                true,
-                into,
-                line_of(g.star_token.spans[0]),
-            );
-        }
-        syn::UseTree::Group(g) => {
-            for tree in &g.items {
-                collect_use(module, tree, prefix, into, file);
-            }
-        }
     }
 }
 
@@ -496,13 +509,40 @@ fn strongly_connected(adjacency: &[Vec<usize>]) -> Vec<Vec<usize>> {
     state.components
 }
 
-/// A function longer than the limit: where, its name and its length in lines.
+/// A function longer than the limit: where, its name and its length in lines, and the
+/// reason its doc comment gives for being long (a line starting [`LONG_BY_DESIGN`]).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LongFunction {
     pub file: PathBuf,
     pub name: String,
     pub line: usize,
     pub lines: usize,
+    pub reason: Option<String>,
+}
+
+/// How a function's doc comment states why it is clearer whole than split.
+pub const LONG_BY_DESIGN: &str = "Long by design:";
+
+/// The doc comment's line that starts with [`LONG_BY_DESIGN`], if any.
+fn stated_reason(attrs: &[syn::Attribute]) -> Option<String> {
+    attrs.iter().find_map(|attr| {
+        let syn::Meta::NameValue(doc) = &attr.meta else {
+            return None;
+        };
+        if !doc.path.is_ident("doc") {
+            return None;
+        }
+        let syn::Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Str(text),
+            ..
+        }) = &doc.value
+        else {
+            return None;
+        };
+        let line = text.value();
+        let reason = line.trim().strip_prefix(LONG_BY_DESIGN)?.trim().to_string();
+        (!reason.is_empty()).then_some(reason)
+    })
 }
 
 /// Every function (free, in an impl or a trait) in `files` longer than `max_lines`,
@@ -514,7 +554,13 @@ pub fn long_functions(files: &[PathBuf], max_lines: usize) -> Result<Vec<LongFun
         found: Vec<LongFunction>,
     }
     impl Lengths {
-        fn check(&mut self, name: &syn::Ident, first: proc_macro2::Span, block: &syn::Block) {
+        fn check(
+            &mut self,
+            attrs: &[syn::Attribute],
+            name: &syn::Ident,
+            first: proc_macro2::Span,
+            block: &syn::Block,
+        ) {
             let start = line_of(first);
             let end = block.brace_token.span.close().end().line;
             let lines = end + 1 - start;
@@ -524,22 +570,23 @@ pub fn long_functions(files: &[PathBuf], max_lines: usize) -> Result<Vec<LongFun
                     name: name.to_string(),
                     line: start,
                     lines,
+                    reason: stated_reason(attrs),
                 });
             }
         }
     }
     impl<'ast> Visit<'ast> for Lengths {
         fn visit_item_fn(&mut self, f: &'ast syn::ItemFn) {
-            self.check(&f.sig.ident, f.sig.fn_token.span, &f.block);
+            self.check(&f.attrs, &f.sig.ident, f.sig.fn_token.span, &f.block);
             syn::visit::visit_item_fn(self, f);
         }
         fn visit_impl_item_fn(&mut self, f: &'ast syn::ImplItemFn) {
-            self.check(&f.sig.ident, f.sig.fn_token.span, &f.block);
+            self.check(&f.attrs, &f.sig.ident, f.sig.fn_token.span, &f.block);
             syn::visit::visit_impl_item_fn(self, f);
         }
         fn visit_trait_item_fn(&mut self, f: &'ast syn::TraitItemFn) {
             if let Some(block) = &f.default {
-                self.check(&f.sig.ident, f.sig.fn_token.span, block);
+                self.check(&f.attrs, &f.sig.ident, f.sig.fn_token.span, block);
             }
             syn::visit::visit_trait_item_fn(self, f);
         }

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use logo_lint::{ModuleGraph, display, long_functions};
+use logo_lint::{LONG_BY_DESIGN, LongFunction, ModuleGraph, display, long_functions};
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -54,6 +54,58 @@ fn modules_of_every_crate_import_each_other_without_a_cycle() {
     assert!(
         report.is_empty(),
         "modules that import each other:\n{report}"
+    );
+}
+
+/// Every `.rs` file under `dir`, sorted.
+fn rust_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+fn listing(long: &[&LongFunction]) -> String {
+    let lines: Vec<String> = long
+        .iter()
+        .map(|f| {
+            format!(
+                "{}:{} {} ({} lines)",
+                f.file.display(),
+                f.line,
+                f.name,
+                f.lines
+            )
+        })
+        .collect();
+    lines.join("\n")
+}
+
+/// No function of any crate's own code (its `src/`, tests aside) is over 80 lines, unless
+/// its doc comment says why it is clearer whole (a line starting "Long by design:").
+#[test]
+fn no_function_of_the_workspace_is_over_80_lines_without_a_reason() {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(workspace().join("crates")).unwrap() {
+        files.extend(rust_files(&entry.unwrap().path().join("src")));
+    }
+    assert!(files.len() > 50, "found only {} source files", files.len());
+    let long = long_functions(&files, 80).unwrap();
+    let unexplained: Vec<&LongFunction> = long.iter().filter(|f| f.reason.is_none()).collect();
+    assert!(
+        unexplained.is_empty(),
+        "functions over 80 lines without a `{LONG_BY_DESIGN}` line in their doc comment:\n{}",
+        listing(&unexplained)
     );
 }
 
@@ -258,4 +310,22 @@ fn long_functions_are_found_with_their_length() {
         (found[0].name.as_str(), found[0].line, found[0].lines),
         ("long", 4, 72)
     );
+    assert_eq!(found[0].reason, None);
+    // A reason in the doc comment is found; a plain comment is not one.
+    let with_reason = text.replace(
+        "    fn long",
+        "    /// Sums.\n    /// Long by design: a port kept line for line.\n    fn long",
+    );
+    let plain = text.replace(
+        "    fn long",
+        "    // Long by design: not a doc comment.\n    fn long",
+    );
+    let dir = fake_crate(&[("a.rs", &with_reason), ("b.rs", &plain)]);
+    let found = long_functions(&[dir.join("a.rs"), dir.join("b.rs")], 60).unwrap();
+    std::fs::remove_dir_all(dir).ok();
+    assert_eq!(
+        found[0].reason.as_deref(),
+        Some("a port kept line for line.")
+    );
+    assert_eq!(found[1].reason, None);
 }

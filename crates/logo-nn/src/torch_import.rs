@@ -69,23 +69,18 @@ fn push_layer(flat: &mut Vec<f64>, (shape, w): &Raw, (_, b): &Raw) {
     flat.extend_from_slice(b);
 }
 
-/// Reads a LOGO reference policy into a [`GaussianPolicy`] whose sizes come from the file.
-pub fn load_reference_policy<B: Backend>(
-    path: &Path,
-    device: &B::Device,
-) -> Result<GaussianPolicy<B>, ImportError> {
-    let reader = PytorchReader::new(path).map_err(|e| ImportError::Read {
-        path: path.to_path_buf(),
-        reason: e.to_string(),
-    })?;
-    let shape_err = |key: &str, found: &[usize], expected: String| ImportError::Shape {
+/// The shape error for `key` of the file at `path`.
+fn shape_error(path: &Path, key: &str, found: &[usize], expected: String) -> ImportError {
+    ImportError::Shape {
         path: path.to_path_buf(),
         key: key.to_string(),
         found: found.to_vec(),
         expected,
-    };
+    }
+}
 
-    // The hidden layers, in order, each fed by the previous one.
+/// The hidden layers `affine_layers.{i}`, in order, each fed by the previous one.
+fn hidden_layers(reader: &PytorchReader, path: &Path) -> Result<Vec<(Raw, Raw)>, ImportError> {
     let mut layers: Vec<(Raw, Raw)> = Vec::new();
     while reader
         .get(&format!("affine_layers.{}.weight", layers.len()))
@@ -96,53 +91,70 @@ pub fn load_reference_policy<B: Backend>(
             format!("affine_layers.{i}.weight"),
             format!("affine_layers.{i}.bias"),
         );
-        let (w, b) = (tensor(&reader, path, &wk)?, tensor(&reader, path, &bk)?);
+        let (w, b) = (tensor(reader, path, &wk)?, tensor(reader, path, &bk)?);
         if w.0.len() != 2 {
-            return Err(shape_err(&wk, &w.0, "(out, in)".into()));
+            return Err(shape_error(path, &wk, &w.0, "(out, in)".into()));
         }
         if let Some((prev, _)) = layers.last()
             && prev.0[0] != w.0[1]
         {
-            return Err(shape_err(&wk, &w.0, format!("({}, {})", w.0[0], prev.0[0])));
+            let expected = format!("({}, {})", w.0[0], prev.0[0]);
+            return Err(shape_error(path, &wk, &w.0, expected));
         }
         if b.0 != [w.0[0]] {
-            return Err(shape_err(&bk, &b.0, format!("({},)", w.0[0])));
+            return Err(shape_error(path, &bk, &b.0, format!("({},)", w.0[0])));
         }
         layers.push((w, b));
     }
-    let first = layers.first().ok_or_else(|| ImportError::Missing {
-        path: path.to_path_buf(),
-        key: "affine_layers.0.weight".into(),
-    })?;
-    let obs_dim = first.0.0[1];
-    let hidden: Vec<usize> = layers.iter().map(|(w, _)| w.0[0]).collect();
-    let last_hidden = *hidden.last().expect("at least one layer");
+    if layers.is_empty() {
+        return Err(ImportError::Missing {
+            path: path.to_path_buf(),
+            key: "affine_layers.0.weight".into(),
+        });
+    }
+    Ok(layers)
+}
 
-    let mean_w = tensor(&reader, path, "action_mean.weight")?;
+/// The output layer (`action_mean`) fed by `last_hidden` units, and `action_log_std`.
+fn output_layer(
+    reader: &PytorchReader,
+    path: &Path,
+    last_hidden: usize,
+) -> Result<(Raw, Raw, Raw), ImportError> {
+    let mean_w = tensor(reader, path, "action_mean.weight")?;
     let act_dim = mean_w.0[0];
     if mean_w.0 != [act_dim, last_hidden] {
-        return Err(shape_err(
-            "action_mean.weight",
-            &mean_w.0,
-            format!("(act, {last_hidden})"),
-        ));
+        let expected = format!("(act, {last_hidden})");
+        return Err(shape_error(path, "action_mean.weight", &mean_w.0, expected));
     }
-    let mean_b = tensor(&reader, path, "action_mean.bias")?;
+    let mean_b = tensor(reader, path, "action_mean.bias")?;
     if mean_b.0 != [act_dim] {
-        return Err(shape_err(
-            "action_mean.bias",
-            &mean_b.0,
-            format!("({act_dim},)"),
-        ));
+        let expected = format!("({act_dim},)");
+        return Err(shape_error(path, "action_mean.bias", &mean_b.0, expected));
     }
-    let log_std = tensor(&reader, path, "action_log_std")?;
+    let log_std = tensor(reader, path, "action_log_std")?;
     if log_std.1.len() != act_dim {
-        return Err(shape_err(
-            "action_log_std",
-            &log_std.0,
-            format!("(1, {act_dim})"),
-        ));
+        let expected = format!("(1, {act_dim})");
+        return Err(shape_error(path, "action_log_std", &log_std.0, expected));
     }
+    Ok((mean_w, mean_b, log_std))
+}
+
+/// Reads a LOGO reference policy into a [`GaussianPolicy`] whose sizes come from the file.
+pub fn load_reference_policy<B: Backend>(
+    path: &Path,
+    device: &B::Device,
+) -> Result<GaussianPolicy<B>, ImportError> {
+    let reader = PytorchReader::new(path).map_err(|e| ImportError::Read {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    let layers = hidden_layers(&reader, path)?;
+    let obs_dim = layers[0].0.0[1];
+    let hidden: Vec<usize> = layers.iter().map(|(w, _)| w.0[0]).collect();
+    let last_hidden = *hidden.last().expect("at least one layer");
+    let (mean_w, mean_b, log_std) = output_layer(&reader, path, last_hidden)?;
+    let act_dim = mean_w.0[0];
 
     let mut flat = Vec::new();
     for (w, b) in &layers {

@@ -78,87 +78,95 @@ pub fn run(args: &EnvBenchArgs) -> Result<()> {
         Some(ids) => ids.clone(),
         None => default_ids.iter().map(|s| s.to_string()).collect(),
     };
-    let mut results = Vec::new();
-    for id in &ids {
-        let factory = EnvFactory::new(id, &EnvOptions::default())?;
-        let spec = factory.spec().clone();
-        let single = single_thread_rates(&factory, args.steps, args.repeats)?;
-        let actions = single.actions;
-        // Vectorised: every copy gets its own slice of the action stream. One-thread and
-        // `threads`-thread runs alternate, so a slow spell of the machine hits both.
-        let n = args.vec_envs;
-        let per_batch = n * spec.act_dim;
-        let batches = args.steps.div_ceil(n);
-        let stream: Vec<f64> = actions
-            .iter()
-            .cycle()
-            .take(batches * per_batch)
-            .copied()
-            .collect();
-        let mut serial = VecEnv::new(&factory, n, 1, 0)?;
-        let mut parallel = VecEnv::new(&factory, n, args.threads, 0)?;
-        let timed = |venv: &mut VecEnv| -> Result<f64> {
-            let start = Instant::now();
-            for batch in stream.chunks(per_batch) {
-                venv.step(batch)?;
-            }
-            Ok((batches * n) as f64 / start.elapsed().as_secs_f64())
-        };
-        timed(&mut parallel)?; // warm-up: start the worker threads
-        let (mut vec_rates, mut one_thread_rates, mut speedups) =
-            (Vec::new(), Vec::new(), Vec::new());
-        for _ in 0..args.repeats {
-            let one = timed(&mut serial)?;
-            let many = timed(&mut parallel)?;
-            one_thread_rates.push(one);
-            vec_rates.push(many);
-            speedups.push(many / one);
-        }
-        results.push(EnvBench {
-            id: id.clone(),
-            frame_skip: spec.frame_skip,
-            env_steps_per_s: single.env_steps_per_s,
-            raw_env_steps_per_s: single.raw_env_steps_per_s,
-            ratio: single.ratio,
-            vec_threads: args.threads,
-            vec_envs: args.vec_envs,
-            vec_env_steps_per_s: median(&vec_rates),
-            vec_one_thread_steps_per_s: median(&one_thread_rates),
-            vec_speedup: median(&speedups),
-        });
-    }
+    let envs = ids
+        .iter()
+        .map(|id| bench_env(args, id))
+        .collect::<Result<Vec<_>>>()?;
     let report = EnvBenchReport {
         steps: args.steps,
         repeats: args.repeats,
-        envs: results,
+        envs,
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        println!(
-            "{:28} {:>12} {:>12} {:>7} {:>16} {:>8}",
-            "env", "env steps/s", "raw steps/s", "ratio", "vec steps/s", "speedup"
-        );
-        for r in &report.envs {
-            println!(
-                "{:28} {:>12.0} {:>12.0} {:>7.3} {:>16} {:>8.2}",
-                r.id,
-                r.env_steps_per_s,
-                r.raw_env_steps_per_s,
-                r.ratio,
-                format!(
-                    "{:.0} ({}x{})",
-                    r.vec_env_steps_per_s, r.vec_envs, r.vec_threads
-                ),
-                r.vec_speedup
-            );
-        }
-        println!(
-            "({} env steps per run, median of {} runs; raw = mj_step x frame_skip)",
-            report.steps, report.repeats
-        );
+        print_table(&report);
     }
     Ok(())
+}
+
+/// One env's single-thread rates, and its vectorised rate against one thread's.
+fn bench_env(args: &EnvBenchArgs, id: &str) -> Result<EnvBench> {
+    let factory = EnvFactory::new(id, &EnvOptions::default())?;
+    let spec = factory.spec().clone();
+    let single = single_thread_rates(&factory, args.steps, args.repeats)?;
+    let actions = single.actions;
+    // Vectorised: every copy gets its own slice of the action stream. One-thread and
+    // `threads`-thread runs alternate, so a slow spell of the machine hits both.
+    let n = args.vec_envs;
+    let per_batch = n * spec.act_dim;
+    let batches = args.steps.div_ceil(n);
+    let stream: Vec<f64> = actions
+        .iter()
+        .cycle()
+        .take(batches * per_batch)
+        .copied()
+        .collect();
+    let mut serial = VecEnv::new(&factory, n, 1, 0)?;
+    let mut parallel = VecEnv::new(&factory, n, args.threads, 0)?;
+    let timed = |venv: &mut VecEnv| -> Result<f64> {
+        let start = Instant::now();
+        for batch in stream.chunks(per_batch) {
+            venv.step(batch)?;
+        }
+        Ok((batches * n) as f64 / start.elapsed().as_secs_f64())
+    };
+    timed(&mut parallel)?; // warm-up: start the worker threads
+    let (mut vec_rates, mut one_thread_rates, mut speedups) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..args.repeats {
+        let one = timed(&mut serial)?;
+        let many = timed(&mut parallel)?;
+        one_thread_rates.push(one);
+        vec_rates.push(many);
+        speedups.push(many / one);
+    }
+    Ok(EnvBench {
+        id: id.to_string(),
+        frame_skip: spec.frame_skip,
+        env_steps_per_s: single.env_steps_per_s,
+        raw_env_steps_per_s: single.raw_env_steps_per_s,
+        ratio: single.ratio,
+        vec_threads: args.threads,
+        vec_envs: args.vec_envs,
+        vec_env_steps_per_s: median(&vec_rates),
+        vec_one_thread_steps_per_s: median(&one_thread_rates),
+        vec_speedup: median(&speedups),
+    })
+}
+
+fn print_table(report: &EnvBenchReport) {
+    println!(
+        "{:28} {:>12} {:>12} {:>7} {:>16} {:>8}",
+        "env", "env steps/s", "raw steps/s", "ratio", "vec steps/s", "speedup"
+    );
+    for r in &report.envs {
+        println!(
+            "{:28} {:>12.0} {:>12.0} {:>7.3} {:>16} {:>8.2}",
+            r.id,
+            r.env_steps_per_s,
+            r.raw_env_steps_per_s,
+            r.ratio,
+            format!(
+                "{:.0} ({}x{})",
+                r.vec_env_steps_per_s, r.vec_envs, r.vec_threads
+            ),
+            r.vec_speedup
+        );
+    }
+    println!(
+        "({} env steps per run, median of {} runs; raw = mj_step x frame_skip)",
+        report.steps, report.repeats
+    );
 }
 
 /// One thread's env steps/s through the env and through a bare `mj_step` loop on the same

@@ -187,6 +187,26 @@ fn acting(args: &NnBenchArgs) -> ActingBench {
     }
 }
 
+/// The median time of one critic's loss gradient over the batch `obs`, in ms.
+fn critic_gradient_ms<E: Engine>(engine: &E, args: &NnBenchArgs, obs: &E::Rows) -> f64 {
+    let critic = ValueNetConfig::new(args.obs_dim).init::<Cpu>(&Default::default());
+    let net = engine.net(&critic.net.dims(), &logo_nn::flat::params_to_vec(&critic));
+    let targets: Vec<f64> = (0..args.batch).map(|k| (k as f64 * 0.3).sin()).collect();
+    let targets = engine.upload(&targets, [args.batch, 1]);
+    let times: Vec<f64> = (0..args.repeats)
+        .map(|_| {
+            time(|| {
+                let trace = engine.trace(&net, obs);
+                let targets = burn::tensor::Tensor::from_inner(targets.clone());
+                let (_, d_values) = value_and_grad(engine.output(&trace), |v| mse(v, targets));
+                std::hint::black_box(engine.vjp(&net, &trace, d_values));
+            })
+            .1
+        })
+        .collect();
+    median(&times) * 1e3
+}
+
 /// The training-batch benchmarks on one engine.
 struct Bench<'a>(&'a NnBenchArgs);
 
@@ -246,26 +266,7 @@ impl WithEngine for Bench<'_> {
             fv.push(b);
             ratios.push(b / a);
         }
-
-        let critic_config = ValueNetConfig::new(args.obs_dim);
-        let critic = critic_config.init::<Cpu>(&Default::default());
-        let dims = critic.net.dims();
-        let net = engine.net(&dims, &logo_nn::flat::params_to_vec(&critic));
-        let targets = engine.upload(&values(args.batch, 0.3), [args.batch, 1]);
-        let critic_ms = median(
-            &(0..args.repeats)
-                .map(|_| {
-                    time(|| {
-                        let trace = engine.trace(&net, &obs);
-                        let targets = burn::tensor::Tensor::from_inner(targets.clone());
-                        let (_, d_values) =
-                            value_and_grad(engine.output(&trace), |v| mse(v, targets));
-                        std::hint::black_box(engine.vjp(&net, &trace, d_values));
-                    })
-                    .1
-                })
-                .collect::<Vec<_>>(),
-        ) * 1e3;
+        let critic_ms = critic_gradient_ms(&engine, args, &obs);
         Ok(EngineBench {
             engine: engine.describe(),
             hidden: config.hidden.clone(),
