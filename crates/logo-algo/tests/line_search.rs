@@ -3,26 +3,13 @@
 //! `fmin_l_bfgs_b`, the LOGO reference's critic fit), and the strong Wolfe conditions on a
 //! quadratic and on the Rosenbrock function.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use logo_algo::lbfgs::{Eager, LineSearch, minimize};
 use logo_algo::more_thuente::{MoreThuente, Search};
+use logo_testkit::python;
 use serde_json::Value;
-
-fn python() -> Option<PathBuf> {
-    let python = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../.venv/bin/python");
-    if python.exists() {
-        return Some(python);
-    }
-    assert!(
-        std::env::var_os("LOGO_REQUIRE_PYTHON").is_none(),
-        "LOGO_REQUIRE_PYTHON is set but {} is missing: run ./scripts/setup.sh",
-        python.display()
-    );
-    eprintln!("skipped: no {}", python.display());
-    None
-}
 
 fn oracle() -> Option<Value> {
     let python = python()?;

@@ -1,17 +1,11 @@
 //! A run killed after its last checkpoint and resumed ends exactly where an uninterrupted
 //! run of the same seed does: same final checkpoint bytes, same metrics.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use logo_algo::{TrainConfig, Trainer};
 use logo_nn::Kernels;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("logo-resume-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use logo_testkit::scratch;
 
 fn config(dir: &Path, guidance: bool) -> TrainConfig {
     let demos =

@@ -1,31 +1,11 @@
 //! The `logo` binary as a user meets it.
 
+use logo_testkit::{Logo, one_line_error as stderr_line, scratch};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
-fn logo(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_logo"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-/// `logo args`, expected to succeed: its stdout.
-fn succeed(args: &[&str]) -> String {
-    let out = logo(args);
-    assert!(
-        out.status.success(),
-        "logo {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("logo-cli-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn cli() -> Logo {
+    Logo::new(env!("CARGO_BIN_EXE_logo"))
 }
 
 /// A demonstrations file with the given width.
@@ -38,7 +18,7 @@ fn write_npy(path: &Path, rows: usize, cols: usize) {
 
 /// `logo train` on `config`, expected to fail: its one-line error.
 fn train_error(config: &Path, out: &Path) -> String {
-    stderr_line(&logo(&[
+    stderr_line(&cli().run(&[
         "train",
         "--config",
         config.to_str().unwrap(),
@@ -71,17 +51,6 @@ fn tiny_run(name: &str) -> (PathBuf, PathBuf) {
     let config = dir.join("tiny.toml");
     std::fs::write(&config, TINY).unwrap();
     (dir, config)
-}
-
-fn stderr_line(out: &Output) -> String {
-    assert!(
-        !out.status.success(),
-        "expected a failure; stdout: {}",
-        String::from_utf8_lossy(&out.stdout)
-    );
-    let err = String::from_utf8_lossy(&out.stderr).trim().to_string();
-    assert_eq!(err.lines().count(), 1, "one line, got: {err}");
-    err
 }
 
 /// `config` with its `env = ...` line replaced by an `[env]` table of `id` and `sparse`.
@@ -189,7 +158,7 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
     let (dir, config) = tiny_run("train");
     let run = |name: &str| {
         let out_dir = dir.join(name);
-        let stdout = succeed(&[
+        let stdout = cli().succeed(&[
             "train",
             "--config",
             config.to_str().unwrap(),
@@ -212,7 +181,7 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
     let (a, b) = (run("a"), run("b"));
     // The checkpoint evaluates.
     let ckpt = dir.join("a/checkpoint.safetensors");
-    let stdout = succeed(&[
+    let stdout = cli().succeed(&[
         "eval",
         "--checkpoint",
         ckpt.to_str().unwrap(),
@@ -237,7 +206,7 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
             "--split-at",
             "0.01",
         ];
-        succeed(&[&["eval", "--checkpoint", ckpt][..], &args].concat())
+        cli().succeed(&[&["eval", "--checkpoint", ckpt][..], &args].concat())
     };
     let (first, again) = (sampled(), sampled());
     assert_eq!(first, again);
@@ -245,7 +214,7 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
         first.contains("sampled actions") && first.contains("0.01 m reached in"),
         "{first}"
     );
-    let bad = stderr_line(&logo(&["eval", "--checkpoint", ckpt, "--split-at", "0"]));
+    let bad = stderr_line(&cli().run(&["eval", "--checkpoint", ckpt, "--split-at", "0"]));
     assert!(bad.contains("--split-at must be a positive"), "{bad}");
     let header: Vec<&str> = a.lines().next().unwrap().split(',').collect();
     for col in [
@@ -292,7 +261,7 @@ fn a_run_keeps_its_best_policy_and_ends_with_eval_json() {
             let first = ["train", "--config", config, "--out", out, "--seed", "1"];
             [&first[..], &["--iterations", iterations]].concat()
         };
-        succeed(&args)
+        cli().succeed(&args)
     };
     let whole = dir.join("whole");
     let stdout = train(&whole, "4", false);
@@ -323,7 +292,7 @@ fn a_run_keeps_its_best_policy_and_ends_with_eval_json() {
         }
     }
     assert_eq!(eval["policies"]["best"]["iteration"], first_top);
-    let json = succeed(&[
+    let json = cli().succeed(&[
         "eval",
         "--checkpoint",
         whole.join("best.safetensors").to_str().unwrap(),
@@ -362,11 +331,7 @@ fn a_run_keeps_its_best_policy_and_ends_with_eval_json() {
 
 #[test]
 fn a_missing_checkpoint_is_a_one_line_error() {
-    let err = stderr_line(&logo(&[
-        "eval",
-        "--checkpoint",
-        "/nonexistent/ckpt.safetensors",
-    ]));
+    let err = stderr_line(&cli().run(&["eval", "--checkpoint", "/nonexistent/ckpt.safetensors"]));
     assert!(err.contains("/nonexistent/ckpt.safetensors"), "{err}");
 }
 
@@ -384,7 +349,7 @@ fn an_os_error_is_said_once_with_its_path() {
             "/tmp/x",
         ],
     ] {
-        let err = stderr_line(&logo(args));
+        let err = stderr_line(&cli().run(args));
         assert!(
             err.contains("/nonexistent/") && err.matches("os error 2").count() == 1,
             "{err}"
@@ -396,7 +361,7 @@ fn an_os_error_is_said_once_with_its_path() {
 fn an_error_names_the_checkpoint_not_a_flag_the_user_did_not_give() {
     let (dir, config) = tiny_run("blame");
     let run = dir.join("run");
-    succeed(&[
+    cli().succeed(&[
         "train",
         "--config",
         config.to_str().unwrap(),
@@ -407,7 +372,7 @@ fn an_error_names_the_checkpoint_not_a_flag_the_user_did_not_give() {
     let mut ckpt = logo_nn::Checkpoint::load(&path).unwrap();
     ckpt.meta.env_id = "Teapot-v1".into();
     ckpt.save(&path).unwrap();
-    let err = stderr_line(&logo(&["eval", "--checkpoint", path.to_str().unwrap()]));
+    let err = stderr_line(&cli().run(&["eval", "--checkpoint", path.to_str().unwrap()]));
     assert!(
         err.contains("checkpoint.safetensors: env_id Teapot-v1") && !err.contains("--env"),
         "{err}"
@@ -416,13 +381,13 @@ fn an_error_names_the_checkpoint_not_a_flag_the_user_did_not_give() {
 
 #[test]
 fn zero_episodes_is_an_error_not_a_meaningless_mean() {
-    let err = stderr_line(&logo(&["rollout", "--episodes", "0"]));
+    let err = stderr_line(&cli().run(&["rollout", "--episodes", "0"]));
     assert_eq!(err, "error: --episodes must be at least 1");
 }
 
 #[test]
 fn unknown_env_ids_are_one_line_errors() {
-    let err = stderr_line(&logo(&["rollout", "--env", "Hopper-v9"]));
+    let err = stderr_line(&cli().run(&["rollout", "--env", "Hopper-v9"]));
     assert!(
         err.contains("Hopper-v9") && err.contains("known ids"),
         "{err}"
@@ -434,7 +399,7 @@ fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
     let (dir, config) = tiny_run("behaviour");
     // Any evaluation reaches -1e9: the run stops after its first iteration.
     let out_dir = dir.join("run");
-    let stdout = succeed(&[
+    let stdout = cli().succeed(&[
         "train",
         "--config",
         config.to_str().unwrap(),
@@ -448,7 +413,7 @@ fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
 
     let ckpt = out_dir.join("checkpoint.safetensors");
     let rec = dir.join("recorded");
-    succeed(&[
+    cli().succeed(&[
         "data",
         "record",
         "--policy",
@@ -460,7 +425,7 @@ fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
         "--out",
         rec.to_str().unwrap(),
     ]);
-    let stdout = succeed(&["data", "inspect", rec.to_str().unwrap(), "--json"]);
+    let stdout = cli().succeed(&["data", "inspect", rec.to_str().unwrap(), "--json"]);
     let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(summary["episodes"], 3);
     assert_eq!(summary["env_id"], "InvertedDoublePendulum-v4");
@@ -474,11 +439,8 @@ fn the_behaviour_pipeline_stops_at_a_return_then_records_and_inspects() {
     assert!(lengths.iter().all(|l| l.as_u64().unwrap() >= 1));
 
     // Inspecting something that is not a dataset is a one-line error.
-    let err = stderr_line(&logo(&[
-        "data",
-        "inspect",
-        dir.join("demos.npy").to_str().unwrap(),
-    ]));
+    let err =
+        stderr_line(&cli().run(&["data", "inspect", dir.join("demos.npy").to_str().unwrap()]));
     assert!(err.contains("not a Minari dataset folder"), "{err}");
 }
 
@@ -487,7 +449,7 @@ fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
     let (dir, config) = tiny_run("resume");
     let run_dir = dir.join("run");
     let run = dir.join("run").to_str().unwrap().to_string();
-    succeed(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
+    cli().succeed(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
     // As if the first two iterations had taken a week: the resumed run's speed and ETA
     // must come from its own iterations, not from that.
     let metrics = run_dir.join("metrics.csv");
@@ -502,7 +464,7 @@ fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
         slow.push(cells.join(","));
     }
     std::fs::write(&metrics, slow.join("\n") + "\n").unwrap();
-    let stdout = succeed(&["train", "--resume", &run, "--iterations", "3"]);
+    let stdout = cli().succeed(&["train", "--resume", &run, "--iterations", "3"]);
     let progress = stdout
         .lines()
         .find(|l| l.starts_with("[   3/3]"))
@@ -520,10 +482,10 @@ fn resume_extends_a_finished_run_and_says_when_there_is_nothing_to_do() {
     );
     let csv = std::fs::read_to_string(run_dir.join("metrics.csv")).unwrap();
     assert_eq!(csv.lines().count(), 4, "{csv}");
-    let out = logo(&["train", "--resume", &run]);
+    let out = cli().run(&["train", "--resume", &run]);
     assert!(String::from_utf8_lossy(&out.stdout).contains("nothing to do"));
     // A folder without a checkpoint: one clear line.
-    let err = stderr_line(&logo(&["train", "--resume", dir.to_str().unwrap()]));
+    let err = stderr_line(&cli().run(&["train", "--resume", dir.to_str().unwrap()]));
     assert!(err.contains("checkpoint.safetensors"), "{err}");
 }
 
@@ -585,7 +547,7 @@ fn a_run_folder_in_training_is_refused_to_a_second_process() {
         assert!(start.elapsed().as_secs() < 60, "no lock after 60 s");
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    let second = logo(&["train", "--config", config, "--out", run_arg]);
+    let second = cli().run(&["train", "--config", config, "--out", run_arg]);
     let running = first.try_wait().unwrap().is_none();
     first.kill().unwrap();
     first.wait().unwrap();
@@ -607,7 +569,7 @@ fn inspect_works_on_every_shipped_dataset() {
     for group in ["logo", "behaviour"] {
         for entry in std::fs::read_dir(data.join(group)).unwrap() {
             let path = entry.unwrap().path();
-            let stdout = succeed(&["data", "inspect", path.to_str().unwrap(), "--json"]);
+            let stdout = cli().succeed(&["data", "inspect", path.to_str().unwrap(), "--json"]);
             let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
             assert!(
                 summary["steps"].as_u64().unwrap() > 100,
@@ -628,8 +590,8 @@ fn a_checkpoint_from_one_engine_resumes_and_evaluates_on_another() {
     let checkpoint = checkpoint.to_str().unwrap();
     // float32 kernels → burn ndarray float64 → evaluated on burn ndarray float32.
     let f32_run = ["--config", config.to_str().unwrap(), "--out", &run];
-    succeed(&[&["train", "--dtype", "f32"][..], &f32_run[..]].concat());
-    let stdout = succeed(&[
+    cli().succeed(&[&["train", "--dtype", "f32"][..], &f32_run[..]].concat());
+    let stdout = cli().succeed(&[
         "train",
         "--resume",
         &run,
@@ -639,7 +601,7 @@ fn a_checkpoint_from_one_engine_resumes_and_evaluates_on_another() {
         "burn",
     ]);
     assert!(stdout.contains("[   3/3]"), "{stdout}");
-    let stdout = succeed(&[
+    let stdout = cli().succeed(&[
         "eval",
         "--checkpoint",
         checkpoint,
@@ -659,7 +621,7 @@ fn a_checkpoint_from_one_engine_resumes_and_evaluates_on_another() {
     // With no engine flag, on the engine the run last trained on (burn ndarray f64):
     // float32 rounding of the weights moves the returns by little (the same seed, the
     // same episode).
-    let on_f64 = succeed(&["eval", "--checkpoint", checkpoint, "--episodes", "1"]);
+    let on_f64 = cli().succeed(&["eval", "--checkpoint", checkpoint, "--episodes", "1"]);
     assert!(
         on_f64.contains("mean action on burn ndarray f64"),
         "{on_f64}"
@@ -689,7 +651,7 @@ fn a_sparse_kind_of_the_config_is_evaluated_and_resumed_as_trained() {
     )
     .unwrap();
     let run = dir.join("run").to_str().unwrap().to_string();
-    let stdout = succeed(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
+    let stdout = cli().succeed(&["train", "--config", config.to_str().unwrap(), "--out", &run]);
     assert!(
         stdout.contains("InvertedDoublePendulum-v4 (sparse: distance(0.5))"),
         "{stdout}"
@@ -697,7 +659,7 @@ fn a_sparse_kind_of_the_config_is_evaluated_and_resumed_as_trained() {
     let written = std::fs::read_to_string(dir.join("run/config.toml")).unwrap();
     assert!(written.contains("kind = \"distance\""), "{written}");
     let checkpoint = dir.join("run/checkpoint.safetensors");
-    let stdout = succeed(&[
+    let stdout = cli().succeed(&[
         "eval",
         "--checkpoint",
         checkpoint.to_str().unwrap(),
@@ -712,15 +674,15 @@ fn a_sparse_kind_of_the_config_is_evaluated_and_resumed_as_trained() {
     // states are the run's, so --seed is refused rather than ignored.
     let ckpt = checkpoint.to_str().unwrap();
     let report: serde_json::Value =
-        serde_json::from_str(&succeed(&["eval", "--checkpoint", ckpt, "--json"])).unwrap();
+        serde_json::from_str(&cli().succeed(&["eval", "--checkpoint", ckpt, "--json"])).unwrap();
     assert_eq!(report["env"], "InvertedDoublePendulum-v4+distance(0.5)");
-    let out = logo(&["eval", "--checkpoint", ckpt, "--json", "--seed", "3"]);
+    let out = cli().run(&["eval", "--checkpoint", ckpt, "--json", "--seed", "3"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         !out.status.success() && err.contains("'--seed <SEED>'"),
         "{err}"
     );
-    succeed(&["train", "--resume", &run, "--iterations", "3"]);
+    cli().succeed(&["train", "--resume", &run, "--iterations", "3"]);
     let rows = std::fs::read_to_string(dir.join("run/metrics.csv")).unwrap();
     assert_eq!(rows.lines().count(), 4, "{rows}");
     std::fs::remove_dir_all(&dir).unwrap();

@@ -17,7 +17,7 @@ use logo_nn::Checkpoint;
 use sha2::{Digest, Sha256};
 
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    logo_testkit::workspace()
 }
 
 /// metrics.csv without its timing columns (wall_s and t_*).

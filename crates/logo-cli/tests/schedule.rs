@@ -7,16 +7,10 @@ use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use logo_nn::Checkpoint;
+use logo_testkit::scratch;
 
 fn logo() -> Command {
     Command::new(env!("CARGO_BIN_EXE_logo"))
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("logo-schedule-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// Sparse IDP LOGO at a small size; `variant` adds tables (minibatched kinds draw from

@@ -6,12 +6,12 @@
 //! It needs root (to install and start the daemons). Where that is not possible it is
 //! skipped, unless LOGO_REQUIRE_SLURM is set (CI sets it), which makes that a failure.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
 fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    logo_testkit::workspace()
 }
 
 fn cluster(action: &str) -> std::process::Output {

@@ -2,21 +2,12 @@
 //! re-run to skip and to resume, a failing run reported with its log while the others
 //! finish, and the figure with its CSV checked against the runs' own metrics.
 
+use logo_testkit::{Logo, scratch};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn logo(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_logo"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("logo-sweep-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    Logo::new(env!("CARGO_BIN_EXE_logo")).run(args)
 }
 
 fn tiny(dir: &Path, name: &str, extra: &str) -> PathBuf {

@@ -4,24 +4,11 @@
 //! values (as float32), the config as text; after a kill and a resume, the same again,
 //! with no step twice.
 
+use logo_testkit::python;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
-
-fn python() -> Option<PathBuf> {
-    let python = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../.venv/bin/python");
-    if python.exists() {
-        return Some(python);
-    }
-    assert!(
-        std::env::var_os("LOGO_REQUIRE_PYTHON").is_none(),
-        "LOGO_REQUIRE_PYTHON is set but {} is missing: run ./scripts/setup.sh",
-        python.display()
-    );
-    eprintln!("skipped: no {}", python.display());
-    None
-}
 
 type Scalars = BTreeMap<String, Vec<(f64, f64)>>;
 

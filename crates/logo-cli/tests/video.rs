@@ -5,7 +5,8 @@
 //! (Mesa's, `scripts/test.sh` installs them on CI); skipped without them unless
 //! LOGO_REQUIRE_VIDEO is set (CI sets it).
 
-use std::path::{Path, PathBuf};
+use logo_testkit::{Logo, scratch};
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn have(program: &str) -> bool {
@@ -31,31 +32,14 @@ fn available() -> bool {
     ok
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("logo-video-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 fn logo(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_logo"));
-    command.args(args);
-    for (key, value) in env {
-        command.env(key, value);
-    }
+    let mut command = Logo::new(env!("CARGO_BIN_EXE_logo")).command();
+    command.args(args).envs(env.iter().copied());
     command.output().unwrap()
 }
 
 fn succeed(args: &[&str]) -> String {
-    let out = logo(args, &[]);
-    assert!(
-        out.status.success(),
-        "logo {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    Logo::new(env!("CARGO_BIN_EXE_logo")).succeed(args)
 }
 
 fn failure(args: &[&str], env: &[(&str, &str)]) -> String {

@@ -4,13 +4,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use logo_lint::{LONG_BY_DESIGN, LongFunction, ModuleGraph, display, long_functions};
-
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .unwrap()
-}
+use logo_testkit::workspace;
 
 fn describe(cycles: &[Vec<logo_lint::Edge>]) -> String {
     let mut text = String::new();

@@ -1,6 +1,5 @@
 //! Checkpoints: bit-exact round trips, errors that name the tensor, no panics on bad files.
 
-use std::path::PathBuf;
 use std::process::Command;
 
 use burn::module::Module;
@@ -9,12 +8,7 @@ use logo_nn::{
     Checkpoint, CheckpointError, CheckpointMeta, Cpu, Cpu32, DiscriminatorConfig, PolicyConfig,
     ValueNetConfig,
 };
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("logo-ckpt-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use logo_testkit::scratch;
 
 fn meta() -> CheckpointMeta {
     let mut meta = CheckpointMeta::new("SparseHopper-v4", 11, 3, "logo");
@@ -213,16 +207,9 @@ fn corrupted_and_truncated_files_are_errors_not_panics() {
 /// Skipped only when the venv is absent and LOGO_REQUIRE_PYTHON is unset.
 #[test]
 fn python_safetensors_opens_a_checkpoint() {
-    let python = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../.venv/bin/python");
-    if !python.exists() {
-        assert!(
-            std::env::var_os("LOGO_REQUIRE_PYTHON").is_none(),
-            "{} is missing: run ./scripts/setup.sh",
-            python.display()
-        );
-        eprintln!("skipped: no {} (run ./scripts/setup.sh)", python.display());
+    let Some(python) = logo_testkit::python() else {
         return;
-    }
+    };
     let device = Default::default();
     let policy = PolicyConfig::new(11, 3).init::<Cpu>(&device);
     let theta = params_to_vec(&policy);

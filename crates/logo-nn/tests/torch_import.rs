@@ -8,9 +8,10 @@ use std::process::{Command, Stdio};
 
 use logo_nn::flat::{from_f64, to_f64};
 use logo_nn::{Cpu, load_reference_policy};
+use logo_testkit::python;
 
 fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    logo_testkit::workspace()
 }
 
 /// The reference data lives beside the checkout (`../shared`), as on CI.
@@ -22,20 +23,6 @@ fn reference_dir() -> Option<PathBuf> {
         eprintln!("skipped: {} is not there", dir.display());
         None
     }
-}
-
-fn python() -> Option<PathBuf> {
-    let python = repo().join(".venv/bin/python");
-    if python.exists() {
-        return Some(python);
-    }
-    assert!(
-        std::env::var_os("LOGO_REQUIRE_PYTHON").is_none(),
-        "{} is missing: run ./scripts/setup.sh",
-        python.display()
-    );
-    eprintln!("skipped: no {}", python.display());
-    None
 }
 
 #[test]
