@@ -3,7 +3,6 @@
 
 use std::path::Path;
 use std::sync::Arc;
-use std::time::Instant;
 
 use logo_data::Demonstrations;
 use logo_envs::{EnvSpec, VecEnv};
@@ -13,6 +12,7 @@ use logo_nn::{
     ValueNet, load_reference_policy,
 };
 
+use super::recorder::Recorder;
 use super::schedule::Schedule;
 use super::state::{Collector, Critics, EngineSpan, Evaluator, Modules, Trainer};
 use crate::config::{GuidanceConfig, TrainConfig};
@@ -81,15 +81,10 @@ impl<E: Engine> Trainer<E> {
             next_batch: None,
             iteration: 0,
             samples: 0,
-            started: Instant::now(),
-            wall_offset: 0.0,
             engines,
-            saved_at: None,
-            best_return: None,
-            events: None,
+            recorder: Recorder::new(run, config.checkpoint_every),
             config,
             engine,
-            run,
         })
     }
 }

@@ -299,45 +299,8 @@ impl<E: Engine> Trainer<E> {
             });
         }
         self.engines = engines;
-        self.saved_at = Some(state.iteration);
-        // metrics.csv: keep the rows up to the checkpoint, continue its clock.
-        let metrics = self.run.metrics_path();
-        let rows = self.run.read_metrics().map_err(|e| e.to_string())?;
-        if let Some(row) = rows.get(state.iteration.wrapping_sub(1))
-            && row.samples != state.samples
-        {
-            return Err(format!(
-                "resume state: {} samples after iteration {}, but {} says {} (not this \
-                 checkpoint's metrics)",
-                state.samples,
-                state.iteration,
-                metrics.display(),
-                row.samples
-            ));
-        }
-        let kept = self
-            .run
-            .keep_metrics_before(state.iteration)
-            .map_err(|e| e.to_string())?;
-        self.wall_offset = kept.last().map_or(0.0, |row| row.wall_s);
-        // The best so far as of the checkpoint: the iterations after it are redone, and
-        // redo the same evaluations (rows from before the column existed have none).
-        self.best_return = kept
-            .iter()
-            .map(|row| row.eval_return)
-            .filter(|r| r.is_finite())
-            .reduce(f64::max);
-        // A best policy from an iteration after the checkpoint belongs to iterations
-        // this resume redoes: it goes, and they write it again if they earn it.
-        let best = self.run.best_path();
-        if best.is_file() {
-            let later =
-                Checkpoint::load(&best).map_or(true, |b| b.meta.iteration > state.iteration as u64);
-            if later {
-                std::fs::remove_file(&best).map_err(|e| format!("{}: {e}", best.display()))?;
-            }
-        }
-        Ok(())
+        // metrics.csv, the clock and the best policy as of the checkpoint.
+        self.recorder.resume(state.iteration, state.samples)
     }
 
     /// Writes the run's state after its latest iteration to `path` (atomically).

@@ -20,6 +20,7 @@
 
 mod build;
 mod checkpoint;
+mod recorder;
 mod schedule;
 mod state;
 mod steps;
@@ -35,7 +36,6 @@ use crate::metrics::IterationMetrics;
 use crate::policy_update::StepBatch;
 pub use crate::run_dir::TrainError;
 use crate::sampler::Batch;
-use crate::tensorboard::EventWriter;
 pub use checkpoint::engine_history;
 pub use schedule::Schedule;
 pub use state::{EngineSpan, Trainer};
@@ -62,7 +62,7 @@ impl<E: Engine> Trainer<E> {
     }
 
     pub fn run_dir(&self) -> &std::path::Path {
-        self.run.path()
+        self.recorder.path()
     }
 
     pub fn schedule(&self) -> Schedule {
@@ -78,10 +78,8 @@ impl<E: Engine> Trainer<E> {
     /// run folder (written anew from the rows metrics.csv holds, so a resumed run's curves
     /// continue without the redone iterations twice), flushed each iteration.
     pub fn write_tensorboard(&mut self) -> Result<(), TrainError> {
-        let rows = self.run.read_metrics()?;
         let config = toml::to_string(&self.config)?;
-        self.events = Some(EventWriter::create(self.run.path(), &config, &rows)?);
-        Ok(())
+        self.recorder.write_tensorboard(&config)
     }
 
     /// Runs one iteration and appends its row to `metrics.csv`; an error names the
@@ -271,22 +269,15 @@ impl<E: Engine> Trainer<E> {
     ) -> Result<IterationMetrics, TrainError> {
         check_critic_fits(&later.fits, stream.is_some()).map_err(|e| self.stopped(e))?;
         let row = self.metrics_row(k, timed, batch, stream, &later);
-        self.run.append(&row)?;
-        if let Some(events) = self.events.as_mut() {
-            events.append(&row)?;
-        }
+        let due = self.recorder.append(&row, self.iteration, self.done())?;
         self.next_batch = later.next;
-        // The best policy: the first to reach the highest evaluation of the trained
-        // task's own return (sparse on a sparse task: the dense one is for reporting).
-        // Written before the checkpoint, which then vouches for it: a resume recomputes
-        // the best from the rows the checkpoint keeps.
-        if row.eval_return.is_finite() && self.best_return.is_none_or(|b| row.eval_return > b) {
-            self.save_checkpoint(&self.run.best_path())?;
-            self.best_return = Some(row.eval_return);
+        if let Some(eval_return) = due.best {
+            self.save_checkpoint(&self.recorder.best_path())?;
+            self.recorder.best_saved(eval_return);
         }
-        if self.iteration.is_multiple_of(self.config.checkpoint_every) || self.done() {
-            self.save_checkpoint(&self.run.checkpoint_path())?;
-            self.saved_at = Some(self.iteration);
+        if due.checkpoint {
+            self.save_checkpoint(&self.recorder.checkpoint_path())?;
+            self.recorder.checkpoint_saved(self.iteration);
         }
         Ok(row)
     }
@@ -311,7 +302,7 @@ impl<E: Engine> Trainer<E> {
         let mut row = IterationMetrics {
             iteration: k,
             samples: self.samples,
-            wall_s: self.wall_offset + self.started.elapsed().as_secs_f64(),
+            wall_s: self.recorder.wall_s(),
             episodes: batch.episode_returns.len(),
             train_sparse_return: batch.mean_return(),
             train_dense_return: batch.mean_dense_return(),
@@ -337,17 +328,8 @@ impl<E: Engine> Trainer<E> {
         row
     }
 
-    /// `e`, saying what the run kept: metrics.csv and the checkpoint stay as the last good
-    /// iteration left them.
+    /// `e`, saying what the run kept (see [`Recorder::stopped`]).
     fn stopped(&self, e: TrainError) -> TrainError {
-        let kept = match self.saved_at {
-            Some(at) => format!("the checkpoint of iteration {at} is kept"),
-            None => "no checkpoint had been written yet".to_string(),
-        };
-        format!(
-            "{e}; the run stopped ({kept} in {})",
-            self.run.path().display()
-        )
-        .into()
+        self.recorder.stopped(e)
     }
 }

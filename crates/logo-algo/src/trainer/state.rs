@@ -11,21 +11,22 @@ use logo_nn::{ActingPolicy, Cpu, Discriminator, Engine, GaussianPolicy, Policy, 
 use rand::RngCore;
 use rand_chacha::ChaCha8Rng;
 
+use super::recorder::Recorder;
 use super::schedule::Schedule;
 use crate::config::{EvalInitialStates, TrainConfig};
 use crate::critic::CriticSet;
 use crate::episode::{Evaluation, evaluate, evaluation_seed};
 use crate::guidance::Guidance;
 use crate::policy_update::UpdateState;
-use crate::run_dir::{RunDir, TrainError};
+use crate::run_dir::TrainError;
 use crate::sampler::{Batch, Sampler};
 use crate::streams::{self, Stream, generator};
-use crate::tensorboard::EventWriter;
 
 pub struct Trainer<E: Engine> {
     pub config: TrainConfig,
     pub(super) engine: E,
-    pub(super) run: RunDir,
+    /// The run folder's writer: metrics.csv, TensorBoard, when checkpoints are due.
+    pub(super) recorder: Recorder,
     /// The worker threads of every phase (`config.threads`): one pool, so that the
     /// sampler, the GEMMs and the fits share the cores instead of oversubscribing them.
     pub(super) pool: Arc<rayon::ThreadPool>,
@@ -41,18 +42,8 @@ pub struct Trainer<E: Engine> {
     pub(super) next_batch: Option<Collected>,
     pub(super) iteration: usize,
     pub(super) samples: usize,
-    pub(super) started: Instant,
-    /// Wall seconds of the iterations before a resume.
-    pub(super) wall_offset: f64,
     /// Which engine ran which iterations, written into every checkpoint's metadata.
     pub(super) engines: Vec<EngineSpan>,
-    /// The iteration count of the last checkpoint written (or resumed from).
-    pub(super) saved_at: Option<usize>,
-    /// The highest evaluation return of the trained task so far, whose policy is in
-    /// `best.safetensors`.
-    pub(super) best_return: Option<f64>,
-    /// TensorBoard's event file, once [`Trainer::write_tensorboard`] opened it.
-    pub(super) events: Option<EventWriter>,
 }
 
 /// Step 1's state: the env copies, how batches are cut, and the sampler's generator.
