@@ -3,11 +3,12 @@
 # its sparse version, with demonstrations made here as the LOGO authors made theirs.
 #   1. behaviour policy: TRPO on the dense reward, stopped when the sampled episodes'
 #      mean return reaches TARGET (a sub-optimal policy, as the paper's);
-#   2. demonstrations: EPISODES episodes of it (sampled actions) as a Minari dataset;
+#   2. demonstrations: EPISODES episodes of it (sampled actions) on the sparse task, as a
+#      Minari dataset (its stored rewards the sparse ones, the dense in its metadata);
 #   3. LOGO (guided by them) and TRPO (not) on the sparse task, SEEDS seeds each; then
 #      `logo summary` (summary.md) and `logo plot` (curves.png).
-# Resumable: run it again and each step goes on from where it stopped (a finished step
-# is skipped). Every `logo` command is printed before it runs.
+# Resumable: run it again and the training and recording go on from where they stopped
+# (finished ones are skipped). Every `logo` command is printed before it runs.
 #
 # Usage: new_task.sh TASK SPARSE TARGET
 #   TASK    a dense id of `logo envs`, e.g. Hopper-v4
@@ -17,9 +18,8 @@
 #   OUT [runs/new-task/<task>]  LOGO [./target/release/logo]
 #   BEHAVIOUR_ITERATIONS [500]  BEHAVIOUR_SAMPLES [5000]  EPISODES [20]
 #   ITERATIONS [100]  SAMPLES [20000]  SEEDS [0..3]  JOBS [1]
-#   DELTA0 [0.01]  ALPHA [0.95]  WARMUP [50]  (LOGO's guidance; the paper's locomotion
-#   values: δ_0 is a KL bound, so it transfers across tasks; K_δ and α set how long the
-#   guidance lasts, in iterations)
+#   DELTA0 [0.01]  ALPHA [0.95]  WARMUP [50]  (LOGO's guidance: the paper's Hopper values;
+#   it chose δ_0 per task, 0.01 to 0.2; docs/new-task.md says how to choose them)
 set -euo pipefail
 
 usage() {
@@ -53,8 +53,8 @@ run() {
 
 main() {
   [ $# -eq 3 ] || usage
-  local task="$1" sparse target="$3"
-  sparse="$(sparse_table "$2")"
+  local task="$1" rule="$2" sparse target="$3"
+  sparse="$(sparse_table "$rule")"
   [[ "$target" =~ ^-?[0-9]+(\.[0-9]+)?$ ]] || {
     echo "new_task.sh: TARGET $target: expected a number" >&2
     exit 2
@@ -96,7 +96,7 @@ EOF
   # 2. The demonstrations.
   local demos="$out/demos"
   if [ ! -f "$demos/data/metadata.json" ]; then
-    run "$logo" data record --policy "$behaviour/checkpoint.safetensors" --env "$task" \
+    run "$logo" data record --policy "$behaviour/checkpoint.safetensors" --env "$task+$rule" \
       --episodes "${EPISODES:-20}" --seed 0 --out "$demos"
   fi
   run "$logo" data inspect "$demos"

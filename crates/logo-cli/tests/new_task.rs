@@ -47,6 +47,12 @@ fn new_task_script_goes_from_a_dense_task_to_logo_and_trpo_runs() {
     ] {
         assert!(out.join(file).is_file(), "{file} missing");
     }
+    // The demonstrations were recorded on the sparse task the runs train on.
+    let metadata = std::fs::read_to_string(out.join("demos/data/metadata.json")).unwrap();
+    assert!(
+        metadata.contains("InvertedDoublePendulum-v4+distance(0.05)"),
+        "{metadata}"
+    );
     let config = std::fs::read_to_string(out.join("configs/logo.toml")).unwrap();
     assert!(
         config.contains("sparse = { kind = \"distance\", threshold = 0.05 }"),
