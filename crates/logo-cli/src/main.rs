@@ -5,10 +5,7 @@ mod data;
 mod engine;
 mod eval;
 mod final_eval;
-mod plot;
 mod rollout;
-mod runs;
-mod summary;
 mod sweep;
 mod train;
 mod video;
@@ -16,6 +13,7 @@ mod video;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use logo_lab::{plot, summary};
 
 #[derive(Parser)]
 #[command(

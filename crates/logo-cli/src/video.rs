@@ -194,7 +194,7 @@ impl Video {
 
 /// Writes `text` on a dark band in the corner of an RGB frame.
 fn caption_corner(rgb: &mut [u8], (width, height): (u32, u32), text: &str) -> Result<()> {
-    crate::plot::register_font();
+    logo_lab::plot::register_font();
     let root = BitMapBackend::with_buffer(rgb, (width, height)).into_drawing_area();
     let err = |e: DrawingAreaErrorKind<_>| anyhow::anyhow!("drawing the caption: {e:?}");
     let size = (height as f64 / 32.0).clamp(9.0, 28.0);

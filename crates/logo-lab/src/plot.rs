@@ -403,7 +403,7 @@ fn write_csv<'a>(path: &Path, curves: impl IntoIterator<Item = &'a Curve>) -> Re
 }
 
 /// Registers the embedded DejaVu Sans as the figure's font (no system font library).
-pub(crate) fn register_font() {
+pub fn register_font() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
