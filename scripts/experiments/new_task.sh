@@ -33,8 +33,8 @@ sparse_table() {
     distance\(*\))
       local metres="${1#distance(}"
       metres="${metres%)}"
-      [[ "$metres" =~ ^-?[0-9]+(\.[0-9]+)?$ ]] || {
-        echo "new_task.sh: SPARSE $1: the threshold must be a number of metres" >&2
+      [[ "$metres" =~ ^(0|[1-9][0-9]*)(\.[0-9]+)?$ ]] || {
+        echo "new_task.sh: SPARSE $1: the threshold must be a positive number of metres" >&2
         exit 2
       }
       echo "{ kind = \"distance\", threshold = $metres }" ;;
@@ -59,14 +59,29 @@ main() {
     echo "new_task.sh: TARGET $target: expected a number" >&2
     exit 2
   }
+  case "$task" in
+    Sparse* | *+*)
+      echo "new_task.sh: TASK $task: give the dense id (e.g. Hopper-v4); SPARSE makes it sparse" >&2
+      exit 2 ;;
+  esac
   local logo="${LOGO:-./target/release/logo}"
-  local out="${OUT:-runs/new-task/$(echo "$task" | tr '[:upper:]' '[:lower:]')}"
+  local name
+  name="$(echo "$task-$rule" | tr '[:upper:]' '[:lower:]' | tr -c 'a-z0-9.\n' '-')"
+  local out="${OUT:-runs/new-task/${name%-}}"
   local configs="$out/configs"
   [ -x "$logo" ] || {
     echo "new_task.sh: $logo is not built (cargo build --release -p logo-cli, or set LOGO)" >&2
     exit 2
   }
   mkdir -p "$configs"
+  # A folder holds one task, rule and target: going on in it with others would mix
+  # their demonstrations and runs.
+  local params="task $task, sparse $rule, target $target"
+  if [ -f "$out/params" ] && [ "$(cat "$out/params")" != "$params" ]; then
+    echo "new_task.sh: $out holds $(cat "$out/params"); give another OUT for $params" >&2
+    exit 2
+  fi
+  echo "$params" > "$out/params"
 
   # 1. The behaviour policy.
   cat > "$configs/behaviour.toml" <<EOF
@@ -78,13 +93,15 @@ eval_steps = ${BEHAVIOUR_SAMPLES:-5000}
 max_kl = 0.01
 EOF
   local behaviour="$out/behaviour"
+  # Stopped at the target, then killed before `done` was written: that policy stands.
+  if grep -qs "reached --stop-at-return" "$out/behaviour.log"; then touch "$behaviour/done"; fi
   if [ ! -f "$behaviour/done" ]; then
     local stop=(--stop-at-return "$target" --stop-metric train)
     if [ -f "$behaviour/checkpoint.safetensors" ]; then
-      run "$logo" train --resume "$behaviour" "${stop[@]}" --no-tensorboard | tee "$out/behaviour.log"
+      run "$logo" train --resume "$behaviour" "${stop[@]}" --no-tensorboard | tee -a "$out/behaviour.log"
     else
       run "$logo" train --config "$configs/behaviour.toml" --out "$behaviour" "${stop[@]}" \
-        --no-tensorboard | tee "$out/behaviour.log"
+        --no-tensorboard | tee -a "$out/behaviour.log"
     fi
     if ! grep -q "reached --stop-at-return" "$out/behaviour.log"; then
       echo "new_task.sh: the behaviour policy did not reach $target in" \

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::Args;
-use logo_envs::{Env, EnvFactory, EnvOptions, clip_to_range};
+use logo_envs::{Env, EnvConfig, EnvFactory, EnvOptions, clip_to_range};
 use logo_nn::{
     ActingPolicy, Checkpoint, CheckpointMeta, Cpu, Engine, GaussianPolicy, Policy, PolicyConfig,
 };
@@ -15,8 +15,8 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::engine::{EngineArgs, WithEngine};
 use crate::video::{Video, VideoArgs};
+use logo_algo::EngineSpan;
 use logo_algo::episode::{Episode, run_episode_with};
-use logo_algo::{EngineSpan, TrainConfig};
 use logo_stats::mean_std;
 
 #[derive(Args)]
@@ -85,12 +85,17 @@ impl WithEngine for OnEngine<'_> {
 }
 
 /// The env a run evaluated on, as its checkpoint's config says (`eval_env`, else the
-/// trained task); the trained task where the metadata holds no config.
-fn evaluated_env(meta: &CheckpointMeta) -> String {
-    serde_json::from_value::<TrainConfig>(meta.extra["config"].clone())
-        .ok()
-        .and_then(|config| config.evaluated_env().env_id().ok())
-        .unwrap_or_else(|| meta.env_id.clone())
+/// trained task, `env_id`); an `eval_env` that does not read is an error, not a silent
+/// evaluation on another env.
+fn evaluated_env(meta: &CheckpointMeta, path: &Path) -> Result<String> {
+    let eval_env = &meta.extra["config"]["eval_env"];
+    if eval_env.is_null() {
+        return Ok(meta.env_id.clone());
+    }
+    let env: EnvConfig = serde_json::from_value(eval_env.clone())
+        .with_context(|| format!("{}: metadata config eval_env", path.display()))?;
+    env.env_id()
+        .with_context(|| format!("{}: metadata config eval_env", path.display()))
 }
 
 /// The policy stored in a checkpoint, and the checkpoint's metadata.
@@ -155,7 +160,7 @@ fn print_json(
 ) -> Result<()> {
     // At least the 20 episodes of a run's eval.json (--episodes may ask for more).
     let episodes = args.episodes.max(crate::final_eval::EPISODES);
-    let env = evaluated_env(meta);
+    let env = evaluated_env(meta, &args.checkpoint)?;
     let mut report = crate::final_eval::report(&env, acting, meta.seed, episodes)?;
     report["checkpoint"] = args.checkpoint.display().to_string().into();
     report["iteration"] = meta.iteration.into();

@@ -685,5 +685,16 @@ fn a_sparse_kind_of_the_config_is_evaluated_and_resumed_as_trained() {
     cli().succeed(&["train", "--resume", &run, "--iterations", "3"]);
     let rows = std::fs::read_to_string(dir.join("run/metrics.csv")).unwrap();
     assert_eq!(rows.lines().count(), 4, "{rows}");
+    // The same env named by its id, written otherwise than the env writes it: the run
+    // records it as the env names itself, and resumes.
+    let named = dir.join("named.toml");
+    let text = TINY.replace(
+        "SparseInvertedDoublePendulum-v4",
+        "InvertedDoublePendulum-v4+distance(0.50)",
+    );
+    std::fs::write(&named, text).unwrap();
+    let run = dir.join("named").to_str().unwrap().to_string();
+    cli().succeed(&["train", "--config", named.to_str().unwrap(), "--out", &run]);
+    cli().succeed(&["train", "--resume", &run, "--iterations", "3"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -85,5 +85,15 @@ fn new_task_script_goes_from_a_dense_task_to_logo_and_trpo_runs() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("number of metres"));
     assert!(!out.join("bad").exists());
+    // Going on in the same folder with another rule is refused, not mixed in.
+    let other = Command::new("bash")
+        .arg(&script)
+        .args(["InvertedDoublePendulum-v4", "delayed", "30"])
+        .env("LOGO", env!("CARGO_BIN_EXE_logo"))
+        .env("OUT", &out)
+        .output()
+        .unwrap();
+    assert_eq!(other.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&other.stderr).contains("give another OUT"));
     std::fs::remove_dir_all(&out).unwrap();
 }

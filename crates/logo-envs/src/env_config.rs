@@ -15,7 +15,7 @@ use std::fmt;
 use serde::de::{self, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use crate::registry::{EnvFactory, EnvOptions, dense_id, sparse_id};
+use crate::registry::{EnvFactory, EnvOptions, canonical_id, dense_id, sparse_id};
 use crate::{EnvError, SparseRule};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -48,7 +48,7 @@ impl EnvConfig {
     pub fn env_id(&self) -> Result<String, EnvError> {
         match self.sparse {
             Some(rule) => sparse_id(&self.id, rule),
-            None => Ok(self.id.clone()),
+            None => canonical_id(&self.id),
         }
     }
 

@@ -122,6 +122,18 @@ impl Kind {
     }
 }
 
+/// The id the env built from `id` reports: `id` itself, with a sparse rule written as
+/// [`sparse_id`] writes it (`Hopper-v4+distance(2)` is LOGO's rule, `SparseHopper-v4`;
+/// `Hopper-v4+distance(5.0)` is `Hopper-v4+distance(5)`), so that a config naming an
+/// env either way matches its checkpoints.
+pub fn canonical_id(id: &str) -> Result<String, EnvError> {
+    let (kind, _, rule) = parse_id(id)?;
+    Ok(match rule {
+        Some(rule) => sparse_name(dense_id(id), kind, rule),
+        None => id.to_string(),
+    })
+}
+
 /// Whether [`EnvFactory::new`] knows `id`, without loading its model.
 pub fn check_id(id: &str) -> Result<(), EnvError> {
     parse_id(id).map(|_| ())

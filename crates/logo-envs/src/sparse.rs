@@ -84,9 +84,9 @@ impl SparseRule {
     /// What a file can get wrong that serde cannot see.
     pub fn validate(&self) -> Result<(), String> {
         match *self {
-            Self::Distance { threshold } if !threshold.is_finite() => Err(format!(
-                "sparse.threshold must be a finite number of metres, got {threshold}"
-            )),
+            Self::Distance { threshold } if !(threshold.is_finite() && threshold > 0.0) => Err(
+                format!("sparse.threshold must be a positive number of metres, got {threshold}"),
+            ),
             _ => Ok(()),
         }
     }

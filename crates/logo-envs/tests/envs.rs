@@ -207,7 +207,7 @@ fn unknown_ids_and_bad_options_name_the_problem() {
         EnvFactory::new("Hopper-v4", &bad)
             .unwrap_err()
             .to_string()
-            .contains("sparse.threshold must be a finite number")
+            .contains("sparse.threshold must be a positive number")
     );
     let twice = EnvOptions {
         sparse: Some(SparseRule::Delayed),
@@ -291,6 +291,23 @@ fn sparse_kinds_and_their_ids() {
     let again = EnvConfig::named("Hopper-v4+distance(5)").factory().unwrap();
     assert_eq!(again.sparse_rule(), far.sparse);
     assert_eq!(logo_envs::dense_id("Hopper-v4+distance(5)"), "Hopper-v4");
+    // Written any way, an id with a rule names the env as the env names itself.
+    for (written, canonical) in [
+        ("Hopper-v4+distance(2)", "SparseHopper-v4"),
+        ("Hopper-v4+distance(5.0)", "Hopper-v4+distance(5)"),
+        (
+            "InvertedDoublePendulum-v4+delayed",
+            "SparseInvertedDoublePendulum-v4",
+        ),
+        ("Walker2d-v5", "Walker2d-v5"),
+    ] {
+        assert_eq!(EnvConfig::named(written).env_id().unwrap(), canonical);
+        assert_eq!(
+            EnvConfig::named(written).factory().unwrap().spec().id,
+            canonical
+        );
+    }
+    assert!(make("Hopper-v4+distance(-1)").is_err());
     let delayed = kind("Hopper-v4", SparseRule::Delayed).factory().unwrap();
     assert_eq!(delayed.spec().id, "Hopper-v4+delayed");
 

@@ -82,7 +82,7 @@ impl<E: Engine> Trainer<E> {
             iteration: 0,
             samples: 0,
             engines,
-            recorder: Recorder::new(run, config.checkpoint_every),
+            recorder: Recorder::new(run),
             config,
             engine,
         })

@@ -269,7 +269,10 @@ impl<E: Engine> Trainer<E> {
     ) -> Result<IterationMetrics, TrainError> {
         check_critic_fits(&later.fits, stream.is_some()).map_err(|e| self.stopped(e))?;
         let row = self.metrics_row(k, timed, batch, stream, &later);
-        let due = self.recorder.append(&row, self.iteration, self.done())?;
+        let every = self.config.checkpoint_every;
+        let due = self
+            .recorder
+            .append(&row, self.iteration, self.done(), every)?;
         self.next_batch = later.next;
         if let Some(eval_return) = due.best {
             self.save_checkpoint(&self.recorder.best_path())?;

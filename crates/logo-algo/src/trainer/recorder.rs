@@ -24,7 +24,6 @@ pub(super) struct Recorder {
     /// The highest evaluation return of the trained task so far, whose policy is in
     /// `best.safetensors`.
     best_return: Option<f64>,
-    checkpoint_every: usize,
 }
 
 /// The checkpoints an iteration's row makes due.
@@ -37,7 +36,7 @@ pub(super) struct Due {
 }
 
 impl Recorder {
-    pub(super) fn new(run: RunDir, checkpoint_every: usize) -> Self {
+    pub(super) fn new(run: RunDir) -> Self {
         Self {
             run,
             events: None,
@@ -45,7 +44,6 @@ impl Recorder {
             wall_offset: 0.0,
             saved_at: None,
             best_return: None,
-            checkpoint_every,
         }
     }
 
@@ -76,7 +74,8 @@ impl Recorder {
     }
 
     /// Appends `row` (after which the run has done `iterations`, and is `done` or not) and
-    /// says which checkpoints are due. The best policy is written before the periodic
+    /// says which checkpoints are due (one every `checkpoint_every` iterations, and the
+    /// last). The best policy is written before the periodic
     /// checkpoint, which then vouches for it: a resume recomputes the best from the rows
     /// the checkpoint keeps.
     pub(super) fn append(
@@ -84,6 +83,7 @@ impl Recorder {
         row: &IterationMetrics,
         iterations: usize,
         done: bool,
+        checkpoint_every: usize,
     ) -> Result<Due, TrainError> {
         self.run.append(row)?;
         if let Some(events) = self.events.as_mut() {
@@ -93,7 +93,7 @@ impl Recorder {
             row.eval_return.is_finite() && self.best_return.is_none_or(|b| row.eval_return > b);
         Ok(Due {
             best: best.then_some(row.eval_return),
-            checkpoint: iterations.is_multiple_of(self.checkpoint_every) || done,
+            checkpoint: iterations.is_multiple_of(checkpoint_every) || done,
         })
     }
 
