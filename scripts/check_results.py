@@ -183,17 +183,11 @@ def bootstrap_two(x, y, stat, reps=20_000, seed=0):
     """95% percentile interval of stat(x, y) over independent resamples of x and y."""
     import random
     rng = random.Random(seed)
-    draws = sorted(
+    draws = (
         stat([x[rng.randrange(len(x))] for _ in x], [y[rng.randrange(len(y))] for _ in y])
         for _ in range(reps)
     )
-
-    def quantile(q):
-        h = (len(draws) - 1) * q
-        lo = math.floor(h)
-        return draws[lo] + (h - lo) * (draws[min(lo + 1, len(draws) - 1)] - draws[lo])
-
-    return quantile(0.025), quantile(0.975)
+    return percentile_interval(draws)
 
 
 def bootstrap_interval(values, stat, reps=20_000, seed=0):
@@ -201,7 +195,12 @@ def bootstrap_interval(values, stat, reps=20_000, seed=0):
     import random
     rng = random.Random(seed)
     n = len(values)
-    draws = sorted(stat([values[rng.randrange(n)] for _ in range(n)]) for _ in range(reps))
+    return percentile_interval(stat([values[rng.randrange(n)] for _ in range(n)]) for _ in range(reps))
+
+
+def percentile_interval(draws):
+    """The 2.5% and 97.5% quantiles of the bootstrap draws (numpy's linear quantiles)."""
+    draws = sorted(draws)
 
     def quantile(q):
         h = (len(draws) - 1) * q

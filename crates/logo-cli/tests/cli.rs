@@ -55,14 +55,7 @@ fn tiny_run(name: &str) -> (PathBuf, PathBuf) {
 
 /// `config` with its `env = ...` line replaced by an `[env]` table of `id` and `sparse`.
 fn env_table(config: &str, id: &str, sparse: &str) -> String {
-    let kept: Vec<&str> = config
-        .lines()
-        .filter(|line| !line.starts_with("env = "))
-        .collect();
-    format!(
-        "{}\n[env]\nid = \"{id}\"\nsparse = {sparse}\n",
-        kept.join("\n")
-    )
+    logo_testkit::with_env_table(config, id, sparse).expect("the config has an env line")
 }
 
 #[test]

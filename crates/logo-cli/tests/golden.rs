@@ -263,16 +263,9 @@ fn sparse_kinds_in_the_config_train_as_the_logo_ids() {
     for (fixture, shipped, id, sparse, iterations) in cases {
         let name = format!("{fixture}-kind");
         let (dir, text) = shipped_config(&name, shipped);
-        let kept: Vec<&str> = text.lines().filter(|l| !l.starts_with("env = ")).collect();
-        assert!(
-            kept.len() < text.lines().count(),
-            "{shipped} has no env line"
-        );
+        let table = logo_testkit::with_env_table(&text, id, sparse)
+            .unwrap_or_else(|| panic!("{shipped} has no env line"));
         let config = dir.join("kind.toml");
-        let table = format!(
-            "{}\n[env]\nid = \"{id}\"\nsparse = {sparse}\n",
-            kept.join("\n")
-        );
         std::fs::write(&config, table).unwrap();
         check_against(fixture, &name, config.to_str().unwrap(), iterations, "f64");
         std::fs::remove_dir_all(&dir).unwrap();

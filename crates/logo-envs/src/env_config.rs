@@ -60,8 +60,7 @@ impl EnvConfig {
     /// Whether the id and rule make an env, without loading its model; the message says
     /// what is wrong, for a config's `key`.
     pub fn validate(&self, key: &str) -> Result<(), String> {
-        let id = self.env_id().map_err(|e| format!("{key}: {e}"))?;
-        crate::registry::check_id(&id).map_err(|e| format!("{key}: {e}"))
+        self.env_id().map(drop).map_err(|e| format!("{key}: {e}"))
     }
 }
 

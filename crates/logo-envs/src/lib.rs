@@ -33,8 +33,7 @@ pub use hopper::Hopper;
 pub use inverted_double_pendulum::InvertedDoublePendulum;
 pub use mujoco_env::{Data, MujocoEnv, ResetNoise, Task, models_dir};
 pub use registry::{
-    BASE_ENV_IDS, EnvFactory, EnvOptions, all_env_ids, canonical_id, check_id, dense_id, make,
-    sparse_id,
+    BASE_ENV_IDS, EnvFactory, EnvOptions, all_env_ids, canonical_id, dense_id, make, sparse_id,
 };
 pub use sparse::{SPARSE_KINDS, SparseReward, SparseRule};
 pub use vec_env::{VecEnv, VecStep};

@@ -134,11 +134,6 @@ pub fn canonical_id(id: &str) -> Result<String, EnvError> {
     })
 }
 
-/// Whether [`EnvFactory::new`] knows `id`, without loading its model.
-pub fn check_id(id: &str) -> Result<(), EnvError> {
-    parse_id(id).map(|_| ())
-}
-
 /// The dense task of any id: `Hopper-v4` for `SparseHopper-v4` and `Hopper-v4+delayed`.
 pub fn dense_id(id: &str) -> &str {
     let id = id.strip_prefix("Sparse").unwrap_or(id);
@@ -155,6 +150,7 @@ pub fn sparse_id(dense: &str, rule: SparseRule) -> Result<String, EnvError> {
             "{dense} is already sparse"
         )));
     }
+    rule.validate().map_err(EnvError::InvalidOption)?;
     Ok(sparse_name(dense, kind, rule))
 }
 

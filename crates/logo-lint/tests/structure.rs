@@ -106,34 +106,17 @@ fn no_function_of_the_workspace_is_over_80_lines_without_a_reason() {
 #[test]
 fn trainer_functions_read_as_short_steps() {
     let dir = workspace().join("crates/logo-algo/src/trainer");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
-        .collect();
-    files.sort();
+    let files = rust_files(&dir);
     assert!(
         files.len() >= 3,
         "trainer files not found in {}",
         dir.display()
     );
     let long = long_functions(&files, 60).unwrap();
-    let listing: Vec<String> = long
-        .iter()
-        .map(|f| {
-            format!(
-                "{}:{} {} ({} lines)",
-                f.file.display(),
-                f.line,
-                f.name,
-                f.lines
-            )
-        })
-        .collect();
     assert!(
         long.is_empty(),
         "trainer functions over 60 lines:\n{}",
-        listing.join("\n")
+        listing(&long.iter().collect::<Vec<_>>())
     );
 }
 

@@ -77,6 +77,22 @@ impl Logo {
     }
 }
 
+/// `config` (a `logo train` config's text) with its `env = ...` line replaced by an
+/// `[env]` table of `id` and `sparse` (a TOML inline table such as `{ kind = "delayed" }`);
+/// None where the config has no such line.
+pub fn with_env_table(config: &str, id: &str, sparse: &str) -> Option<String> {
+    let kept: Vec<&str> = config
+        .lines()
+        .filter(|line| !line.starts_with("env = "))
+        .collect();
+    (kept.len() < config.lines().count()).then(|| {
+        format!(
+            "{}\n[env]\nid = \"{id}\"\nsparse = {sparse}\n",
+            kept.join("\n")
+        )
+    })
+}
+
 /// The one-line error of a command expected to fail (the project's promise for bad
 /// input: one line naming what to fix, and a non-zero exit).
 pub fn one_line_error(out: &Output) -> String {
