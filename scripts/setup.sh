@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Sets up everything logo-rl needs on a fresh machine. Idempotent: a second run checks
-# hashes and returns in about a second.
+# hashes, repacks the wheel and returns in a few seconds.
 #
 #   1. a Python venv (.venv) with the pinned packages of scripts/requirements.txt,
 #      fetched from PyPI with pip: the Gymnasium oracle for the parity tests;
 #   2. libmujoco.so.3.17.0 from the mujoco==3.17.0 wheel -> third_party/mujoco/lib/
 #      (the committed linker script libmujoco.so there points at it);
-#   3. the MJCF files from the gymnasium==1.4.0 wheel -> models/.
+#   3. the MJCF files from the gymnasium==1.4.0 wheel -> models/;
+#   4. the Python package logo_rl (crates/logo-py), built by maturin into a wheel
+#      (target/wheels/) and installed into .venv.
 # Every extracted file is checked against the committed SHA256SUMS.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -53,4 +55,15 @@ asset_file() { echo "$site/gymnasium/envs/mujoco/assets/$1"; }
 install_checked third_party/mujoco/SHA256SUMS third_party/mujoco mujoco_file
 install_checked models/SHA256SUMS models asset_file
 
-say "ready: MuJoCo 3.17.0 in third_party/mujoco/lib, MJCF models in models/, Python oracle in .venv"
+# 4. The wheel: cargo rebuilds only what changed, pip reinstalls it (a second; the venv
+#    holds its pinned dependencies already, hence --no-deps).
+say "building the Python package logo_rl (maturin build --release)"
+rm -f target/wheels/logo_rl-*.whl
+"$venv/bin/maturin" build --release --quiet -m crates/logo-py/Cargo.toml --out target/wheels \
+  || die "maturin could not build crates/logo-py"
+wheel="$(ls target/wheels/logo_rl-*.whl)"
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps --force-reinstall "$wheel" \
+  || die "pip could not install $wheel"
+say "installed $(basename "$wheel") into .venv"
+
+say "ready: MuJoCo 3.17.0 in third_party/mujoco/lib, MJCF models in models/, Python oracle and logo_rl in .venv"

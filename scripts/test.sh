@@ -2,7 +2,7 @@
 # The test command: set up (idempotent), check formatting and clippy's lints, check the
 # Gymnasium and rliable oracles have not drifted from the committed fixtures, then run
 # every Rust test in release mode (MuJoCo and burn are too slow unoptimised, and the
-# main job shares this build).
+# main job shares this build), then the Python package's tests with pytest.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -46,6 +46,11 @@ fi
 
 echo "== cargo test --release --workspace"
 cargo test --release --workspace "$@"
+
+# The Python package (built and installed into .venv by setup.sh); its tests compare
+# with the `logo` binary the Rust tests just built.
+echo "== pytest crates/logo-py/tests (the Python package logo_rl)"
+.venv/bin/python -m pytest crates/logo-py/tests
 
 # burn's wgpu backend, on Mesa's lavapipe (Vulkan on the CPU) where there is no GPU: the
 # feature is a separate build of logo-cli and the crates it passes the feature to.

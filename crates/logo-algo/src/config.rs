@@ -167,17 +167,64 @@ pub struct ConfigError {
     pub message: String,
 }
 
+/// A TOML error on one line.
+fn one_line(e: &toml::de::Error) -> String {
+    e.to_string().trim_end().replace('\n', " ")
+}
+
+/// Lays `top` over `under`: tables merge key by key, any other value replaces.
+fn lay_over(under: &mut toml::Table, top: toml::Table) {
+    for (key, value) in top {
+        match (under.get_mut(&key), value) {
+            (Some(toml::Value::Table(below)), toml::Value::Table(above)) => lay_over(below, above),
+            (_, value) => {
+                under.insert(key, value);
+            }
+        }
+    }
+}
+
 impl TrainConfig {
     /// Reads and checks a config; relative paths inside become relative to its folder.
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
+        Self::load_with(path, toml::Table::new())
+    }
+
+    /// [`Self::load`] with `overrides` laid over the file: a value replaces the file's,
+    /// a table is laid over the file's table key by key (`guidance = { delta0 = 0.1 }`
+    /// changes δ_0 alone).
+    pub fn load_with(path: &Path, overrides: toml::Table) -> Result<Self, ConfigError> {
         let err = |message: String| ConfigError {
             path: path.to_path_buf(),
             message,
         };
         let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
-        let mut config: TrainConfig =
-            toml::from_str(&text).map_err(|e| err(e.to_string().trim_end().replace('\n', " ")))?;
         let base = path.parent().unwrap_or(Path::new("."));
+        if overrides.is_empty() {
+            return Self::parse(&text, path, base);
+        }
+        let mut table: toml::Table = toml::from_str(&text).map_err(|e| err(one_line(&e)))?;
+        lay_over(&mut table, overrides);
+        Self::from_table(table, path, base)
+    }
+
+    /// A config given as a table (the Python package's dict): `origin` names it in errors,
+    /// relative paths inside are taken from `base`.
+    pub fn from_table(table: toml::Table, origin: &Path, base: &Path) -> Result<Self, ConfigError> {
+        // Through the text, so that errors read as they do for a file.
+        let text = toml::to_string(&table).map_err(|e| ConfigError {
+            path: origin.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        Self::parse(&text, origin, base)
+    }
+
+    fn parse(text: &str, path: &Path, base: &Path) -> Result<Self, ConfigError> {
+        let err = |message: String| ConfigError {
+            path: path.to_path_buf(),
+            message,
+        };
+        let mut config: TrainConfig = toml::from_str(text).map_err(|e| err(one_line(&e)))?;
         // Absolute (and without `..` where the file exists), so that the copy saved with a
         // run (config.toml, the checkpoint's metadata) still points at the same files when
         // the run is resumed.

@@ -1,18 +1,9 @@
 //! `logo`: the one command of logo-rl.
 
-mod bench;
-mod data;
-mod engine;
-mod eval;
-mod final_eval;
-mod rollout;
-mod sweep;
-mod train;
-mod video;
-
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use logo_cli::{bench, data, eval, rollout, sweep, train};
 use logo_lab::{plot, summary};
 
 #[derive(Parser)]

@@ -94,9 +94,49 @@ pub struct TrainArgs {
 }
 
 /// How a run starts.
-enum Start {
+pub enum Start {
+    /// A new run of this config into this folder.
     New(Box<TrainConfig>, PathBuf),
+    /// The run in this folder, to this many iterations (None: its own config's).
     Resume(PathBuf, Option<usize>),
+}
+
+/// One `logo train`: where it starts and how it goes, whoever asked for it.
+pub struct Job {
+    pub start: Start,
+    /// Stop at the first iteration whose metric reaches this return.
+    pub stop: Option<(f64, StopMetric)>,
+    pub schedule: Schedule,
+    pub tensorboard: bool,
+    pub video_every: Option<usize>,
+}
+
+/// Where a run's lines go, and whether it goes on: `logo train` prints them; the Python
+/// package hands them to Python and stops at Ctrl-C.
+pub trait Console {
+    fn say(&mut self, line: &str);
+    /// Asked after each iteration; an error stops the run once its checkpoint is written.
+    fn go_on(&mut self) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// `logo train`'s console: standard output, never interrupted (a signal ends the
+/// process; `--resume` continues from the last periodic checkpoint).
+pub struct Stdout;
+
+impl Console for Stdout {
+    fn say(&mut self, line: &str) {
+        println!("{line}");
+    }
+}
+
+/// `runs/<config name>-seed<seed>`: where a new run goes unless told otherwise.
+pub fn default_out(config_path: &Path, seed: u64) -> PathBuf {
+    let name = config_path
+        .file_stem()
+        .map_or("run".into(), |s| s.to_string_lossy().into_owned());
+    PathBuf::from(format!("runs/{name}-seed{seed}"))
 }
 
 pub fn run(args: &TrainArgs) -> Result<()> {
@@ -113,55 +153,54 @@ pub fn run(args: &TrainArgs) -> Result<()> {
             "--stop-at-return must be a finite number"
         );
     }
-    let stop = args.stop_at_return.map(|r| (r, args.stop_metric));
-    if let Some(dir) = &args.resume {
-        let start = Start::Resume(dir.clone(), args.iterations);
-        let schedule = args.schedule.into();
-        let last = last_engine(dir);
-        let (engine, taken) = args.engine.or_trained_on(last.as_deref(), |_| true);
-        if taken {
-            println!(
-                "continuing on {}, the engine this run last trained on \
-                 (--engine, --backend or --dtype choose another)",
-                last.unwrap_or_default()
-            );
+    let start = match &args.resume {
+        Some(dir) => Start::Resume(dir.clone(), args.iterations),
+        None => {
+            let config_path = args.config.as_ref().expect("clap: --config or --resume");
+            let mut config = TrainConfig::load(config_path)?;
+            if let Some(seed) = args.seed {
+                config.seed = seed;
+            }
+            if let Some(iterations) = args.iterations {
+                config.iterations = iterations;
+            }
+            if let Some(threads) = args.threads {
+                anyhow::ensure!(threads > 0, "--threads must be at least 1");
+                config.threads = threads;
+            }
+            let out = (args.out.clone()).unwrap_or_else(|| default_out(config_path, config.seed));
+            Start::New(Box::new(config), out)
         }
-        return engine.with(Train {
-            start,
-            stop,
-            schedule,
-            tensorboard: !args.no_tensorboard,
-            video_every: args.video_every,
-        });
-    }
-    let config_path = args.config.as_ref().expect("clap: --config or --resume");
-    let mut config = TrainConfig::load(config_path)?;
-    if let Some(seed) = args.seed {
-        config.seed = seed;
-    }
-    if let Some(iterations) = args.iterations {
-        config.iterations = iterations;
-    }
-    if let Some(threads) = args.threads {
-        anyhow::ensure!(threads > 0, "--threads must be at least 1");
-        config.threads = threads;
-    }
-    let name = config_path
-        .file_stem()
-        .map_or("run".into(), |s| s.to_string_lossy().into_owned());
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("runs/{name}-seed{}", config.seed)));
-    let start = Start::New(Box::new(config), out);
-    let schedule = args.schedule.into();
-    args.engine.with(Train {
+    };
+    let job = Job {
         start,
-        stop,
-        schedule,
+        stop: args.stop_at_return.map(|r| (r, args.stop_metric)),
+        schedule: args.schedule.into(),
         tensorboard: !args.no_tensorboard,
         video_every: args.video_every,
-    })
+    };
+    run_job(job, &args.engine, &mut Stdout).map(|_| ())
+}
+
+/// Runs `job` on `engine` (a resumed run without engine flags continues on the engine it
+/// last trained on) and returns the run's folder.
+pub fn run_job(job: Job, engine: &EngineArgs, console: &mut dyn Console) -> Result<PathBuf> {
+    let engine = match &job.start {
+        Start::Resume(dir, _) => {
+            let last = last_engine(dir);
+            let (engine, taken) = engine.or_trained_on(last.as_deref(), |_| true);
+            if taken {
+                console.say(&format!(
+                    "continuing on {}, the engine this run last trained on \
+                     (--engine, --backend or --dtype choose another)",
+                    last.unwrap_or_default()
+                ));
+            }
+            engine
+        }
+        Start::New(..) => engine.clone(),
+    };
+    engine.with(Train { job, console })
 }
 
 /// The engine the run in `dir` last trained on, as its checkpoint's history names it;
@@ -178,37 +217,34 @@ fn last_engine(dir: &Path) -> Option<String> {
 }
 
 /// `logo train` on the chosen engine.
-struct Train {
-    start: Start,
-    stop: Option<(f64, StopMetric)>,
-    schedule: Schedule,
-    tensorboard: bool,
-    video_every: Option<usize>,
+struct Train<'c> {
+    job: Job,
+    console: &'c mut dyn Console,
 }
 
-impl WithEngine for Train {
-    type Output = ();
-    fn run<E: Engine>(self, engine: E) -> Result<()> {
-        train(engine, self)
+impl WithEngine for Train<'_> {
+    type Output = PathBuf;
+    fn run<E: Engine>(self, engine: E) -> Result<PathBuf> {
+        train(engine, self.job, self.console)
     }
 }
 
-fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
-    let Train {
+fn train<E: Engine>(engine: E, job: Job, console: &mut dyn Console) -> Result<PathBuf> {
+    let Job {
         start,
         stop,
         schedule,
         tensorboard,
         video_every,
     } = job;
-    let (mut trainer, out) = open(engine, start)?;
+    let (mut trainer, out) = open(engine, start, console)?;
     trainer.set_schedule(schedule);
     if tensorboard {
         trainer
             .write_tensorboard()
             .map_err(|e| anyhow::anyhow!("{e}"))?;
     }
-    println!("{}", start_line(&trainer, &out));
+    console.say(&start_line(&trainer, &out));
     let total = trainer.config.iterations;
     let mut last = None;
     // The speed is this invocation's: a resumed run's wall_s also holds earlier
@@ -219,50 +255,72 @@ fn train<E: Engine>(engine: E, job: Train) -> Result<()> {
         let m = trainer.step().map_err(|e| anyhow::anyhow!("{e}"))?;
         made += 1;
         if video_every.is_some_and(|n| (m.iteration + 1).is_multiple_of(n)) {
-            record_iteration(&trainer, &out, m.iteration + 1)?;
+            let line = record_iteration(&trainer, &out, m.iteration + 1)?;
+            console.say(&line);
         }
         let per_iter = started.elapsed().as_secs_f64() / made as f64;
-        println!("{}", progress_line(&m, &trainer.config, per_iter));
+        console.say(&progress_line(&m, &trainer.config, per_iter));
         let reached = stop.is_some_and(|(target, metric)| match metric {
             StopMetric::Eval => m.eval_dense_return >= target,
             StopMetric::Train => m.train_sparse_return >= target,
         });
+        let iteration = m.iteration + 1;
         last = Some(m);
+        if let Err(stopped) = console.go_on() {
+            let path = keep_checkpoint(&trainer, &out)?;
+            console.say(&format!(
+                "stopped after iteration {iteration}: checkpoint {} (--resume {} goes on)",
+                path.display(),
+                out.display()
+            ));
+            return Err(stopped);
+        }
         if let (true, Some((target, metric))) = (reached, stop) {
-            let path = out.join(CHECKPOINT);
-            trainer
-                .save_checkpoint(&path)
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-            println!(
+            let path = keep_checkpoint(&trainer, &out)?;
+            console.say(&format!(
                 "reached --stop-at-return {target} ({metric:?} return): stopped, policy in {}",
                 path.display()
-            );
+            ));
             break;
         }
     }
     let Some(last) = last else {
-        println!(
+        console.say(&format!(
             "nothing to do: the run in {} has done its {total} iterations (--iterations extends it)",
             out.display()
-        );
+        ));
         // A run that ended before its evaluation was written (killed, or older than it).
         if !out.join("eval.json").is_file() {
-            end_of_run_evaluation(&trainer, &out)?;
+            end_of_run_evaluation(&trainer, &out, console)?;
         }
-        return Ok(());
+        return Ok(out);
     };
-    println!(
+    console.say(&format!(
         "done in {:.1} s: final eval dense return {:.1}; {} and {}",
         last.wall_s,
         last.eval_dense_return,
         out.join("metrics.csv").display(),
         out.join(CHECKPOINT).display()
-    );
-    end_of_run_evaluation(&trainer, &out)
+    ));
+    end_of_run_evaluation(&trainer, &out, console)?;
+    Ok(out)
+}
+
+/// Writes the run's checkpoint now (a run stopped early); returns its path.
+fn keep_checkpoint<E: Engine>(trainer: &Trainer<E>, out: &Path) -> Result<PathBuf> {
+    let path = out.join(CHECKPOINT);
+    trainer
+        .save_checkpoint(&path)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    Ok(path)
 }
 
 /// The trainer of a new run or of a resumed one, and its folder.
-fn open<E: Engine>(engine: E, start: Start) -> Result<(Trainer<E>, PathBuf)> {
+fn open<E: Engine>(
+    engine: E,
+    start: Start,
+    console: &mut dyn Console,
+) -> Result<(Trainer<E>, PathBuf)> {
     match start {
         Start::New(config, out) => {
             let trainer =
@@ -273,11 +331,11 @@ fn open<E: Engine>(engine: E, start: Start) -> Result<(Trainer<E>, PathBuf)> {
             let trainer = Trainer::resume(engine, &dir, iterations)
                 .map_err(|e| anyhow::anyhow!("{e}"))
                 .with_context(|| format!("--resume {}", dir.display()))?;
-            println!(
+            console.say(&format!(
                 "resuming {} after iteration {}",
                 dir.display(),
                 trainer.iteration()
-            );
+            ));
             // The evaluation of an earlier end: the new end writes its own.
             if !trainer.done() {
                 let stale = dir.join("eval.json");
@@ -331,7 +389,11 @@ fn progress_line(m: &IterationMetrics, config: &TrainConfig, per_iter: f64) -> S
 /// `eval.json`: the final and the best policy (the first to reach the highest evaluation
 /// of the trained task's own return, kept by the trainer as best.safetensors) over fresh
 /// initial states of the trained task, on the run's engine (see `final_eval`).
-fn end_of_run_evaluation<E: Engine>(trainer: &Trainer<E>, out: &Path) -> Result<()> {
+fn end_of_run_evaluation<E: Engine>(
+    trainer: &Trainer<E>,
+    out: &Path,
+    console: &mut dyn Console,
+) -> Result<()> {
     let config = &trainer.config;
     let engine = trainer.engine();
     let env_id = config.evaluated_env().env_id()?;
@@ -354,21 +416,25 @@ fn end_of_run_evaluation<E: Engine>(trainer: &Trainer<E>, out: &Path) -> Result<
     final_eval::write(out, env, seed, episodes, &policies)?;
     for (name, _, iteration, report) in &policies {
         let s = &report["mean_action"]["summary"];
-        println!(
+        console.say(&format!(
             "{name} policy (iteration {iteration}) over {episodes} fresh episodes: return {:.1}, \
              dense return {:.1}, success {:.0}%",
             s["return"].as_f64().unwrap_or(f64::NAN),
             s["dense_return"].as_f64().unwrap_or(f64::NAN),
             100.0 * s["success_rate"].as_f64().unwrap_or(f64::NAN)
-        );
+        ));
     }
-    println!("evaluation: {}", out.join("eval.json").display());
+    console.say(&format!("evaluation: {}", out.join("eval.json").display()));
     Ok(())
 }
 
 /// The video of `--video-every`: the mean action of the policy after `iteration`
 /// iterations, one episode of the evaluation env from its first initial state.
-fn record_iteration<E: Engine>(trainer: &Trainer<E>, out: &Path, iteration: usize) -> Result<()> {
+fn record_iteration<E: Engine>(
+    trainer: &Trainer<E>,
+    out: &Path,
+    iteration: usize,
+) -> Result<String> {
     let config = &trainer.config;
     let factory = EnvFactory::new(&config.eval_env_id(), &EnvOptions::default())?;
     let dir = out.join("videos");
@@ -389,11 +455,10 @@ fn record_iteration<E: Engine>(trainer: &Trainer<E>, out: &Path, iteration: usiz
         acting.mean(obs)
     })?;
     video.finish()?;
-    println!(
+    Ok(format!(
         "video: {} (dense return {:.1}, {} steps)",
         path.display(),
         episode.dense_return,
         episode.length
-    );
-    Ok(())
+    ))
 }

@@ -208,6 +208,7 @@ impl<E: Engine> Policy<E> {
 /// tensor library costs more than the physics step it drives).
 pub struct ActingPolicy {
     mean: HostMlp,
+    log_std: Vec<f64>,
     std: Vec<f64>,
 }
 
@@ -217,7 +218,18 @@ impl ActingPolicy {
         Self {
             mean,
             std: log_std.iter().map(|l| l.exp()).collect(),
+            log_std,
         }
+    }
+
+    /// The mean net's layer sizes and parameters (the Python package's weights).
+    pub fn mean_net(&self) -> &HostMlp {
+        &self.mean
+    }
+
+    /// log σ, one per action.
+    pub fn log_std(&self) -> &[f64] {
+        &self.log_std
     }
 
     /// μ(s) for every row of `obs` (`rows * obs_dim` values, row-major).

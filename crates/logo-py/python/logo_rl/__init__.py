@@ -1,0 +1,52 @@
+"""logo_rl: LOGO (learning online with guidance offline) from Python.
+
+logo-rl's Rust trainer, its Gymnasium-exact MuJoCo envs and its trained policies:
+
+- ``import logo_rl`` registers every env of ``logo envs`` with Gymnasium as
+  ``logo_rl/<id>`` (``gymnasium.make("logo_rl/SparseHopper-v4")``);
+- :func:`train` runs ``logo train`` in this process and returns a :class:`Run`;
+- :func:`load` opens a checkpoint's policy (:class:`Policy`);
+- :class:`LogoVectorEnv`: N copies of an env on Rust threads, Gymnasium's VectorEnv API;
+- :class:`SparseReward`: logo-rl's sparse kinds on any Gymnasium env.
+
+The extension links MuJoCo 3.17.0 from the ``mujoco`` wheel, and the envs read their MJCF
+files from the ``gymnasium`` 1.4.0 wheel (``LOGO_MODELS_DIR`` overrides that).
+"""
+
+import importlib.util as _util
+import os as _os
+
+
+def _models_dir() -> str:
+    spec = _util.find_spec("gymnasium")
+    if spec is None or spec.origin is None:
+        raise ImportError("logo_rl needs gymnasium==1.4.0 (pip install gymnasium==1.4.0)")
+    return _os.path.join(_os.path.dirname(spec.origin), "envs", "mujoco", "assets")
+
+
+# Read by the Rust side each time it loads a model; a user's own setting wins.
+_os.environ.setdefault("LOGO_MODELS_DIR", _models_dir())
+
+from ._logo_rl import MUJOCO_VERSION, LogoError, __version__, env_ids  # noqa: E402
+from .envs import LogoEnv, register_envs  # noqa: E402
+from .policy import Policy, load  # noqa: E402
+from .run import Run, train  # noqa: E402
+from .vector import LogoVectorEnv  # noqa: E402
+from .wrappers import SparseReward  # noqa: E402
+
+register_envs()
+
+__all__ = [
+    "LogoEnv",
+    "LogoError",
+    "LogoVectorEnv",
+    "MUJOCO_VERSION",
+    "Policy",
+    "Run",
+    "SparseReward",
+    "__version__",
+    "env_ids",
+    "load",
+    "register_envs",
+    "train",
+]

@@ -1,0 +1,149 @@
+"""``logo_rl.train``: ``logo train`` from Python, in this process."""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+import numpy as np
+
+from . import _logo_rl
+from .policy import Policy
+
+
+class Run:
+    """A run folder: what ``logo train`` writes, read back."""
+
+    def __init__(self, path: str | os.PathLike):
+        self.path = Path(path)
+        if not (self.path / "metrics.csv").is_file():
+            raise FileNotFoundError(f"{self.path}: no metrics.csv (not a logo-rl run folder)")
+
+    def __repr__(self) -> str:
+        return f"Run({str(self.path)!r})"
+
+    checkpoint = property(lambda self: self.path / "checkpoint.safetensors")
+    best = property(
+        lambda self: self.path / "best.safetensors",
+        doc="The policy of the iteration whose evaluation first reached the highest return.",
+    )
+    config_path = property(lambda self: self.path / "config.toml")
+
+    @property
+    def metrics(self):
+        """``metrics.csv``'s columns: a pandas DataFrame where pandas is installed, else a
+        dict of NumPy arrays (numbers as float64, others as strings)."""
+        try:
+            import pandas
+        except ImportError:
+            pandas = None
+        if pandas is not None:
+            return pandas.read_csv(self.path / "metrics.csv")
+        with open(self.path / "metrics.csv", newline="") as f:
+            rows = list(csv.DictReader(f))
+        columns = {}
+        for key in rows[0].keys() if rows else []:
+            values = [row[key] for row in rows]
+            try:
+                columns[key] = np.array([float(v) for v in values])
+            except ValueError:
+                columns[key] = np.array(values)
+        return columns
+
+    @property
+    def eval(self) -> dict[str, Any] | None:
+        """``eval.json``: the final and the best policy over fresh episodes (None until the
+        run has ended)."""
+        path = self.path / "eval.json"
+        return json.loads(path.read_text()) if path.is_file() else None
+
+    def policy(self, which: str = "final") -> Policy:
+        """The run's ``final`` (checkpoint) or ``best`` policy."""
+        files = {"final": self.checkpoint, "best": self.best}
+        if which not in files:
+            raise ValueError(f"which={which!r}: expected 'final' or 'best'")
+        return Policy(files[which])
+
+
+def train(
+    config: str | os.PathLike | Mapping[str, Any] | None = None,
+    *,
+    out: str | os.PathLike | None = None,
+    resume: str | os.PathLike | None = None,
+    iterations: int | None = None,
+    engine: str | None = None,
+    backend: str | None = None,
+    dtype: str | None = None,
+    tensorboard: bool = True,
+    progress: bool | Callable[[str], None] = True,
+    **overrides: Any,
+) -> Run:
+    """Trains as ``logo train --config CONFIG`` does and returns the :class:`Run`.
+
+    ``config``: a TOML file of ``configs/`` or a dict of the same keys (its relative paths
+    are taken from the working directory). ``overrides`` replace the config's keys
+    (``seed=3``, ``samples_per_iter=2000``); a dict value is laid over the config's table
+    of that name key by key (``guidance={"delta0": 0.1}``). ``resume``: continue the run
+    in that folder instead (``iterations`` may extend it). ``engine``, ``backend``,
+    ``dtype``: as ``logo train``'s flags. ``progress``: print each iteration's line
+    (True), stay quiet (False) or hand each line to a callable.
+
+    Ctrl-C stops the run after the iteration in progress; the run folder then holds that
+    iteration's checkpoint (``train(resume=run.path)`` goes on, exactly as the run would
+    have) and KeyboardInterrupt is raised.
+    """
+    if progress is True:
+        say = lambda line: print(line, flush=True)  # noqa: E731
+    elif progress is False:
+        say = lambda line: None  # noqa: E731
+    elif callable(progress):
+        say = progress
+    else:
+        raise TypeError(f"progress={progress!r}: expected True, False or a callable")
+    if resume is not None:
+        if config is not None or overrides:
+            raise ValueError("resume continues a run with its own config: drop config and overrides")
+        path = _logo_rl.train(
+            say=say,
+            resume=os.fspath(resume),
+            iterations=iterations,
+            engine=engine,
+            backend=backend,
+            dtype=dtype,
+            tensorboard=tensorboard,
+        )
+        return Run(path)
+    if config is None:
+        raise ValueError("train needs a config (a TOML file or a dict) or resume=")
+    table = dict(overrides)
+    if iterations is not None:
+        table["iterations"] = iterations
+    path_arg = None
+    if isinstance(config, Mapping):
+        table = _lay_over(dict(config), table)
+    else:
+        path_arg = os.fspath(config)
+    path = _logo_rl.train(
+        say=say,
+        config=path_arg,
+        table_json=json.dumps(table),
+        base=os.getcwd(),
+        out=None if out is None else os.fspath(out),
+        engine=engine,
+        backend=backend,
+        dtype=dtype,
+        tensorboard=tensorboard,
+    )
+    return Run(path)
+
+
+def _lay_over(under: dict, top: Mapping) -> dict:
+    for key, value in top.items():
+        if isinstance(value, Mapping) and isinstance(under.get(key), Mapping):
+            under[key] = _lay_over(dict(under[key]), value)
+        else:
+            under[key] = value
+    return under

@@ -1,0 +1,174 @@
+//! One env of `logo envs` for Python: `logo_rl.envs.LogoEnv` wraps it as a Gymnasium env.
+
+use logo_envs::render::{Look, Renderer};
+use logo_envs::{Env, EnvFactory, EnvOptions};
+use numpy::{IntoPyArray, PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray1};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use crate::errors::LogoError;
+
+/// Every id `RustEnv` takes by name (`logo envs`): the dense tasks, then LOGO's sparse ones.
+#[pyfunction]
+pub fn env_ids() -> Vec<String> {
+    logo_envs::all_env_ids()
+}
+
+fn env_error(e: impl std::fmt::Display) -> PyErr {
+    LogoError::new_err(e.to_string())
+}
+
+/// A Rust env: `f64` observations and actions, the project's own seeded reset stream.
+/// Not shared between threads (it may hold an OpenGL context for rendering).
+#[pyclass(unsendable, module = "logo_rl._logo_rl")]
+pub struct RustEnv {
+    factory: EnvFactory,
+    env: Box<dyn Env>,
+    obs: Vec<f64>,
+    renderer: Option<Renderer>,
+}
+
+fn f64s<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
+    values.to_vec().into_pyarray(py)
+}
+
+#[pymethods]
+impl RustEnv {
+    /// `id`: any id of `logo envs`, also `<dense id>+<rule>` (`Hopper-v4+distance(5)`).
+    #[new]
+    #[pyo3(signature = (id, max_episode_steps = 1000))]
+    fn new(id: &str, max_episode_steps: usize) -> PyResult<Self> {
+        if max_episode_steps == 0 {
+            return Err(PyValueError::new_err(
+                "max_episode_steps must be at least 1",
+            ));
+        }
+        let options = EnvOptions {
+            max_episode_steps,
+            ..EnvOptions::default()
+        };
+        let factory = EnvFactory::new(id, &options).map_err(env_error)?;
+        let env = factory.build();
+        let obs = vec![0.0; factory.spec().obs_dim];
+        Ok(Self {
+            factory,
+            env,
+            obs,
+            renderer: None,
+        })
+    }
+
+    #[getter]
+    fn id(&self) -> String {
+        self.factory.spec().id.clone()
+    }
+    #[getter]
+    fn obs_dim(&self) -> usize {
+        self.factory.spec().obs_dim
+    }
+    #[getter]
+    fn act_dim(&self) -> usize {
+        self.factory.spec().act_dim
+    }
+    #[getter]
+    fn action_low<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        f64s(py, &self.factory.spec().action_low)
+    }
+    #[getter]
+    fn action_high<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        f64s(py, &self.factory.spec().action_high)
+    }
+    #[getter]
+    fn max_episode_steps(&self) -> usize {
+        self.factory.spec().max_episode_steps
+    }
+    /// Seconds of simulated time per step.
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.factory.spec().dt
+    }
+    /// The sparse rule, as `logo envs` writes it (None for a dense env).
+    #[getter]
+    fn sparse(&self) -> Option<String> {
+        self.factory.sparse_rule().map(|rule| rule.describe())
+    }
+
+    /// Starts an episode; `seed` reseeds the env's own ChaCha8 reset stream.
+    #[pyo3(signature = (seed = None))]
+    fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> Bound<'py, PyArray1<f64>> {
+        self.env.reset(seed, &mut self.obs);
+        f64s(py, &self.obs)
+    }
+
+    /// `(obs, reward, terminated, truncated, dense_reward, x_position)`.
+    #[allow(clippy::type_complexity)]
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        action: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, f64, bool, bool, f64, f64)> {
+        let action = action
+            .as_slice()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let step = self.env.step(action, &mut self.obs).map_err(env_error)?;
+        Ok((
+            f64s(py, &self.obs),
+            step.reward,
+            step.terminated,
+            step.truncated,
+            step.info.dense_reward,
+            step.info.x_position,
+        ))
+    }
+
+    /// Overwrites the joint state (Gymnasium's `set_state`) and returns the observation.
+    fn set_state<'py>(
+        &mut self,
+        py: Python<'py>,
+        qpos: PyReadonlyArray1<'py, f64>,
+        qvel: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let value_error = |e: numpy::AsSliceError| PyValueError::new_err(e.to_string());
+        let (qpos, qvel) = (
+            qpos.as_slice().map_err(value_error)?,
+            qvel.as_slice().map_err(value_error)?,
+        );
+        self.env
+            .set_state(qpos, qvel, &mut self.obs)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(f64s(py, &self.obs))
+    }
+
+    /// `(qpos, qvel)` now.
+    fn state<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
+        let (qpos, qvel) = self.env.state();
+        (f64s(py, qpos), f64s(py, qvel))
+    }
+
+    /// The frame of the current state: `[height, width, 3]` RGB bytes, offscreen (EGL),
+    /// with the camera `logo eval --video` uses.
+    fn render<'py>(
+        &mut self,
+        py: Python<'py>,
+        width: u32,
+        height: u32,
+    ) -> PyResult<Bound<'py, PyArray3<u8>>> {
+        let stale = self
+            .renderer
+            .as_ref()
+            .is_some_and(|r| r.size() != (width, height));
+        if self.renderer.is_none() || stale {
+            let renderer = Renderer::new(&self.factory, width, height, Look::Full);
+            self.renderer = Some(renderer.map_err(env_error)?);
+        }
+        let renderer = self.renderer.as_mut().expect("made above");
+        let (qpos, qvel) = self.env.state();
+        let frame = renderer.render(qpos, qvel).map_err(env_error)?;
+        let shape = [height as usize, width as usize, 3];
+        let array = frame.to_vec().into_pyarray(py);
+        array.reshape(shape)
+    }
+}

@@ -1,0 +1,27 @@
+//! `logo_rl._logo_rl`: the Rust half of the `logo_rl` Python package (its Python half is
+//! `python/logo_rl/`). It hands Python the envs of `logo envs` ([`env::RustEnv`]), the
+//! trainer of `logo train` ([`train::train`]) and the policies of checkpoints
+//! ([`policy::Policy`]); everything they compute is the Rust crates' own.
+
+use pyo3::prelude::*;
+
+mod env;
+mod errors;
+mod policy;
+mod train;
+mod vector;
+
+use errors::LogoError;
+
+#[pymodule]
+fn _logo_rl(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<env::RustEnv>()?;
+    m.add_class::<policy::Policy>()?;
+    m.add_class::<vector::RustVecEnv>()?;
+    m.add_function(wrap_pyfunction!(env::env_ids, m)?)?;
+    m.add_function(wrap_pyfunction!(train::train, m)?)?;
+    m.add("LogoError", m.py().get_type::<LogoError>())?;
+    m.add("MUJOCO_VERSION", "3.17.0")?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

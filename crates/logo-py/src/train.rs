@@ -1,0 +1,136 @@
+//! `logo_rl.train`'s Rust side: the job of `logo train`, its lines handed to a Python
+//! callable, Ctrl-C honoured between iterations (the run keeps a checkpoint there).
+
+use std::path::PathBuf;
+
+use clap::ValueEnum;
+use logo_algo::{Schedule, TrainConfig};
+use logo_cli::engine::{BackendKind, Dtype, EngineArgs, EngineKind};
+use logo_cli::train::{Console, Job, Start, default_out, run_job};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use crate::errors::logo_error;
+
+/// Lines go to `say` (a Python callable). Python's pending signals are checked after each
+/// iteration; Ctrl-C (KeyboardInterrupt), there or inside `say`, or any exception `say`
+/// raises, stops the run once its checkpoint is written, and is raised again to the caller.
+struct PythonConsole {
+    say: Py<PyAny>,
+    raised: Option<PyErr>,
+}
+
+impl Console for PythonConsole {
+    fn say(&mut self, line: &str) {
+        if self.raised.is_some() {
+            // Stopping: the lines that remain go where the caller can still see them.
+            eprintln!("{line}");
+            return;
+        }
+        if let Err(e) = Python::attach(|py| self.say.call1(py, (line,))) {
+            self.raised = Some(e);
+        }
+    }
+
+    fn go_on(&mut self) -> anyhow::Result<()> {
+        if self.raised.is_none() {
+            self.raised = Python::attach(|py| py.check_signals()).err();
+        }
+        match &self.raised {
+            None => Ok(()),
+            Some(e) => Err(anyhow::anyhow!("interrupted ({e})")),
+        }
+    }
+}
+
+fn choice<T: ValueEnum>(key: &str, value: Option<&str>) -> PyResult<Option<T>> {
+    value
+        .map(|text| {
+            T::from_str(text, true).map_err(|_| {
+                let names: Vec<String> = T::value_variants()
+                    .iter()
+                    .filter_map(|v| v.to_possible_value())
+                    .map(|p| p.get_name().to_string())
+                    .collect();
+                PyValueError::new_err(format!(
+                    "{key}={text:?}: expected one of {}",
+                    names.join(", ")
+                ))
+            })
+        })
+        .transpose()
+}
+
+/// The config `table_json` (a JSON object of a config's keys) names, read as
+/// `TrainConfig::load_with` reads a file: from `path` with the table laid over it, or the
+/// table alone (`origin` names it in errors, relative paths are taken from `base`).
+fn config(path: Option<PathBuf>, table_json: &str, base: PathBuf) -> PyResult<TrainConfig> {
+    let json: serde_json::Value = serde_json::from_str(table_json)
+        .map_err(|e| PyValueError::new_err(format!("config keys: {e}")))?;
+    let table: toml::Table = toml::Value::try_from(json)
+        .ok()
+        .and_then(|v| v.as_table().cloned())
+        .ok_or_else(|| {
+            PyValueError::new_err("config keys: a TOML table (no None values) was expected")
+        })?;
+    let loaded = match path {
+        Some(path) => TrainConfig::load_with(&path, table),
+        None => TrainConfig::from_table(table, &PathBuf::from("<config dict>"), &base),
+    };
+    loaded.map_err(|e| crate::errors::LogoError::new_err(e.to_string()))
+}
+
+/// Runs `logo train` in this process, with the GIL released, and returns the run folder.
+/// `config` and `table_json` make a new run (see [`config`]); `resume` continues one.
+#[pyfunction]
+#[pyo3(signature = (
+    *, say, config = None, table_json = "{}", base = PathBuf::from("."), out = None,
+    resume = None, iterations = None, engine = None, backend = None, dtype = None,
+    tensorboard = true
+))]
+#[allow(clippy::too_many_arguments)]
+pub fn train(
+    py: Python<'_>,
+    say: Py<PyAny>,
+    config: Option<PathBuf>,
+    table_json: &str,
+    base: PathBuf,
+    out: Option<PathBuf>,
+    resume: Option<PathBuf>,
+    iterations: Option<usize>,
+    engine: Option<&str>,
+    backend: Option<&str>,
+    dtype: Option<&str>,
+    tensorboard: bool,
+) -> PyResult<PathBuf> {
+    let engine = EngineArgs {
+        engine: choice::<EngineKind>("engine", engine)?,
+        backend: choice::<BackendKind>("backend", backend)?,
+        dtype: choice::<Dtype>("dtype", dtype)?,
+    };
+    let start = match resume {
+        Some(dir) => Start::Resume(dir, iterations),
+        None => {
+            let name = config.clone();
+            let config = self::config(config, table_json, base)?;
+            let out = out.unwrap_or_else(|| {
+                default_out(name.as_deref().unwrap_or("run".as_ref()), config.seed)
+            });
+            Start::New(Box::new(config), out)
+        }
+    };
+    let job = Job {
+        start,
+        stop: None,
+        schedule: Schedule::Pipelined,
+        tensorboard,
+        video_every: None,
+    };
+    let mut console = PythonConsole { say, raised: None };
+    let result = py.detach(|| run_job(job, &engine, &mut console));
+    match (result, console.raised) {
+        (_, Some(raised)) => Err(raised),
+        (Ok(dir), None) => Ok(dir),
+        (Err(e), None) => Err(logo_error(&e)),
+    }
+}

@@ -1,0 +1,59 @@
+"""logo_rl.wrappers.SparseReward on Gymnasium's own Python envs pays as the Rust sparse
+kinds do, from the same states and actions."""
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import logo_rl
+from logo_rl.wrappers import SparseReward
+
+
+def compare(python_env, rust_id, rng, episodes, scale=1.0, max_steps=1000):
+    """Both envs from the Python env's reset state, the same actions; returns the rewards."""
+    rust = logo_rl.LogoEnv(rust_id, max_episode_steps=max_steps)
+    paid = []
+    for _ in range(episodes):
+        python_env.reset(seed=int(rng.integers(1 << 31)))
+        data = python_env.unwrapped.data
+        qpos, qvel = data.qpos.copy(), data.qvel.copy()
+        python_env.set_state(qpos, qvel)
+        rust.reset(seed=0)
+        rust.set_state(qpos, qvel)
+        low, high = python_env.action_space.low, python_env.action_space.high
+        while True:
+            action = scale * rng.uniform(low, high).astype(np.float64)
+            _, r, te, tr, info = python_env.step(action)
+            _, rr, rte, rtr, rinfo = rust.step(action)
+            assert (r, te, tr) == (rr, rte, rtr)
+            assert info["dense_reward"] == rinfo["dense_reward"]
+            paid.append(r)
+            if te or tr:
+                break
+    return paid
+
+
+def test_distance_pays_as_the_rust_kind():
+    rng = np.random.default_rng(1)
+    env = SparseReward(gym.make("HalfCheetah-v4", max_episode_steps=300), "distance", threshold=0.3)
+    paid = compare(env, "HalfCheetah-v4+distance(0.3)", rng, episodes=4, max_steps=300)
+    assert 0 < sum(paid) < len(paid), "the threshold was never, or always, passed"
+
+
+def test_delayed_pays_as_the_rust_kind():
+    rng = np.random.default_rng(2)
+    env = SparseReward(gym.make("InvertedDoublePendulum-v4"), "delayed")
+    paid = compare(env, "SparseInvertedDoublePendulum-v4", rng, episodes=5, scale=0.1)
+    assert sum(r != 0 for r in paid) == 5
+
+
+def test_bad_kinds_are_errors():
+    env = gym.make("Hopper-v4")
+    with pytest.raises(ValueError, match="unknown sparse kind 'goal'"):
+        SparseReward(env, "goal")
+    with pytest.raises(ValueError, match="positive finite threshold"):
+        SparseReward(env, "distance", threshold=-1)
+    with pytest.raises(ValueError, match="takes no threshold"):
+        SparseReward(env, "delayed", threshold=2)
+    with pytest.raises(ValueError, match="needs position="):
+        SparseReward(gym.make("CartPole-v1"), "distance", threshold=1)
