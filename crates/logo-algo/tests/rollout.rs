@@ -109,7 +109,7 @@ fn evaluation_clips_the_mean_action_when_asked() {
     let params = vec![5.0; logo_nn::mlp::num_params(&dims)];
     let policy = logo_nn::ActingPolicy::new(HostMlp::new(dims, params), vec![0.0; 3]);
     let factory = EnvFactory::new("Hopper-v4", &EnvOptions::default()).unwrap();
-    let mut env = factory.build();
+    let mut env = factory.build().unwrap();
     let mut run = |clip| evaluate(env.as_mut(), &policy, |k| k as u64, 50, clip).unwrap();
     let (sent, clipped) = (run(false), run(true));
     assert!(sent.action_rms > 1.0, "{}", sent.action_rms);

@@ -309,7 +309,7 @@ fn record(args: &RecordArgs) -> Result<()> {
     };
     let mut env = EnvFactory::new(&sparse_id, &EnvOptions::default())
         .with_context(|| format!("--env {}", args.env))?
-        .build();
+        .build()?;
     let spec = env.spec().clone();
     anyhow::ensure!(
         (spec.obs_dim, spec.act_dim) == (meta.obs_dim, meta.act_dim),

@@ -213,7 +213,7 @@ fn evaluate_on(
         None => format!("{}: env_id {id}", args.checkpoint.display()),
     };
     let factory = EnvFactory::new(id, &EnvOptions::default()).with_context(|| source)?;
-    let mut env = factory.build();
+    let mut env = factory.build()?;
     let spec = env.spec().clone();
     anyhow::ensure!(
         (spec.obs_dim, spec.act_dim) == (meta.obs_dim, meta.act_dim),
@@ -371,7 +371,8 @@ mod tests {
     fn an_episode_reports_distance_and_the_unclamped_action_size() {
         let mut env = EnvFactory::new("SparseHalfCheetah-v4", &EnvOptions::default())
             .unwrap()
-            .build();
+            .build()
+            .unwrap();
         let episode = run_episode(env.as_mut(), 0, |_| vec![2.0; 6]).unwrap();
         assert_eq!(episode.length, 1000);
         assert!((episode.action_rms - 2.0).abs() < 1e-12, "{episode:?}");
@@ -392,7 +393,8 @@ mod tests {
     fn clipped_actions_move_the_same_and_cost_less() {
         let mut env = EnvFactory::new("HalfCheetah-v4", &EnvOptions::default())
             .unwrap()
-            .build();
+            .build()
+            .unwrap();
         let spec = env.spec().clone();
         let clipped = run_episode(env.as_mut(), 0, |_| {
             let mut action = vec![2.0; 6];

@@ -42,7 +42,7 @@ pub fn play(
     seed: u64,
     episodes: usize,
 ) -> Result<Vec<Episode>> {
-    let mut env = EnvFactory::new(env_id, &EnvOptions::default())?.build();
+    let mut env = EnvFactory::new(env_id, &EnvOptions::default())?.build()?;
     let (low, high) = (
         env.spec().action_low.clone(),
         env.spec().action_high.clone(),

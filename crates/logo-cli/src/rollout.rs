@@ -63,7 +63,7 @@ pub fn run(args: &RolloutArgs) -> Result<()> {
     anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
     let factory = EnvFactory::new(&args.env, &EnvOptions::default())
         .with_context(|| format!("--env {}", args.env))?;
-    let mut env = factory.build();
+    let mut env = factory.build()?;
     let spec = env.spec().clone();
     let mut video = match &args.video.video {
         Some(path) => Some(Video::start(path, &factory, args.video.frames())?),

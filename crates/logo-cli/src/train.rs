@@ -448,7 +448,7 @@ fn record_iteration<E: Engine>(
     };
     let mut video = Video::start(&path, &factory, frames)?;
     let acting = trainer.policy().acting(trainer.engine());
-    let mut env = factory.build();
+    let mut env = factory.build()?;
     let label = format!("iteration {iteration} | ");
     let seed = evaluation_seed(config.seed, 0);
     let episode = record_episode(&mut video, env.as_mut(), seed, &label, |obs| {

@@ -151,6 +151,11 @@ impl Dataset {
     /// (`SparseHopper-v4` and `Hopper-v5` are both Hopper; Walker2d and HalfCheetah, with
     /// equal dims, are not).
     pub fn check_env(&self, path: &Path, env_id: &str) -> Result<(), DataError> {
+        // A Python env (`python:<name>`, logo_envs::EXTERNAL_PREFIX) has a name of its
+        // user's choosing: the dims are what can be checked.
+        if env_id.starts_with("python:") {
+            return Ok(());
+        }
         let family = |id: &str| {
             let id = id.strip_prefix("Sparse").unwrap_or(id);
             id.rsplit_once("-v")

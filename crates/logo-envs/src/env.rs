@@ -88,6 +88,9 @@ pub enum EnvError {
     NotAtReset(String),
     #[error("invalid option: {0}")]
     InvalidOption(String),
+    /// An external env's own code failed (a Python env raised).
+    #[error("{env}: {message}")]
+    External { env: String, message: String },
 }
 
 /// A reinforcement-learning environment with `f64` observations and actions.
@@ -132,6 +135,20 @@ pub struct ResetPoint {
     pub qpos: Vec<f64>,
     pub qvel: Vec<f64>,
     pub rng: RngState,
+}
+
+impl ResetPoint {
+    /// The point of an env whose state cannot be taken (an external env): no joint state,
+    /// a generator at its start. Restoring it resets that env afresh, so a resumed run
+    /// continues its learner exactly and its env from a new episode.
+    pub fn unrestorable() -> Self {
+        use rand::SeedableRng;
+        Self {
+            qpos: Vec::new(),
+            qvel: Vec::new(),
+            rng: RngState::of(&rand_chacha::ChaCha8Rng::seed_from_u64(0)),
+        }
+    }
 }
 
 /// The exact position of a ChaCha8 stream.

@@ -7,11 +7,13 @@
 //!   any of them made sparse by a [`SparseRule`] (a config's [`EnvConfig`]), LOGO's own
 //!   versions under their old names (`SparseHopper-v4`, ...).
 //! - [`VecEnv`]: N copies on worker threads, one `MjData` each over a shared `MjModel`.
+//! - [`EnvMaker`]: an env the caller brings (a Python env), built by id like the others.
 //!
 //! This crate knows nothing of neural networks: observations and actions are `f64` slices.
 
 mod env;
 mod env_config;
+mod external;
 mod half_cheetah;
 mod hopper;
 mod inverted_double_pendulum;
@@ -28,6 +30,7 @@ pub use env::{
     Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo, Version, clip_to_range,
 };
 pub use env_config::EnvConfig;
+pub use external::{EXTERNAL_PREFIX, EnvMaker, register_external, unregister_external};
 pub use half_cheetah::HalfCheetah;
 pub use hopper::Hopper;
 pub use inverted_double_pendulum::InvertedDoublePendulum;

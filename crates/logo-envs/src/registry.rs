@@ -6,6 +6,7 @@ use std::sync::Arc;
 use mujoco_rs::prelude::MjModel;
 
 use crate::env::{Env, EnvError, EnvSpec, Version};
+use crate::external::{EnvMaker, external};
 use crate::mujoco_env::{MujocoEnv, Task, load_model};
 use crate::sparse::{SparseReward, SparseRule};
 use crate::{HalfCheetah, Hopper, InvertedDoublePendulum, Walker2d};
@@ -57,15 +58,24 @@ enum Kind {
     InvertedDoublePendulum,
 }
 
-/// Builds copies of one env id over a model loaded once (`MjModel` is shared, read-only).
+/// Builds copies of one env id over a model loaded once (`MjModel` is shared, read-only),
+/// or by the maker of an external env (`python:<name>`, see [`crate::register_external`]).
 #[derive(Clone)]
 pub struct EnvFactory {
-    kind: Kind,
-    version: Version,
-    sparse: Option<SparseRule>,
-    model: Arc<MjModel>,
+    source: Source,
     options: EnvOptions,
     spec: EnvSpec,
+}
+
+#[derive(Clone)]
+enum Source {
+    Mujoco {
+        kind: Kind,
+        version: Version,
+        sparse: Option<SparseRule>,
+        model: Arc<MjModel>,
+    },
+    External(Arc<dyn EnvMaker>),
 }
 
 impl fmt::Debug for EnvFactory {
@@ -127,6 +137,9 @@ impl Kind {
 /// `Hopper-v4+distance(5.0)` is `Hopper-v4+distance(5)`), so that a config naming an
 /// env either way matches its checkpoints.
 pub fn canonical_id(id: &str) -> Result<String, EnvError> {
+    if let Some(maker) = external(id) {
+        return maker.map(|m| m.spec().id.clone());
+    }
     let (kind, _, rule) = parse_id(id)?;
     Ok(match rule {
         Some(rule) => sparse_name(dense_id(id), kind, rule),
@@ -144,6 +157,11 @@ pub fn dense_id(id: &str) -> &str {
 /// for that task (so that a config's kind and the old name run and record alike), else
 /// `<id>+<rule>`.
 pub fn sparse_id(dense: &str, rule: SparseRule) -> Result<String, EnvError> {
+    if external(dense).is_some() {
+        return Err(EnvError::InvalidOption(format!(
+            "{dense}: a sparse kind of a Python env is a wrapper in Python (logo_rl.SparseReward)"
+        )));
+    }
     let (kind, _, named) = parse_id(dense)?;
     if named.is_some() {
         return Err(EnvError::InvalidOption(format!(
@@ -164,6 +182,9 @@ fn sparse_name(dense: &str, kind: Kind, rule: SparseRule) -> String {
 
 impl EnvFactory {
     pub fn new(id: &str, options: &EnvOptions) -> Result<Self, EnvError> {
+        if let Some(maker) = external(id) {
+            return Self::external(maker?, options);
+        }
         let (kind, version, named_rule) = parse_id(id)?;
         if options.max_episode_steps == 0 {
             return Err(EnvError::InvalidOption(
@@ -193,10 +214,27 @@ impl EnvFactory {
             .spec()
             .clone();
         Ok(Self {
-            kind,
-            version,
-            sparse,
-            model,
+            source: Source::Mujoco {
+                kind,
+                version,
+                sparse,
+                model,
+            },
+            options: options.clone(),
+            spec,
+        })
+    }
+
+    fn external(maker: Arc<dyn EnvMaker>, options: &EnvOptions) -> Result<Self, EnvError> {
+        let spec = maker.spec().clone();
+        if options.sparse.is_some() {
+            return Err(EnvError::InvalidOption(format!(
+                "{}: a sparse kind of a Python env is a wrapper in Python (logo_rl.SparseReward)",
+                spec.id
+            )));
+        }
+        Ok(Self {
+            source: Source::External(maker),
             options: options.clone(),
             spec,
         })
@@ -206,31 +244,50 @@ impl EnvFactory {
         &self.spec
     }
 
-    /// The sparse rule, if the env is a sparse one.
+    /// The sparse rule, if the env is a sparse one of this crate's.
     pub fn sparse_rule(&self) -> Option<SparseRule> {
-        self.sparse
+        match &self.source {
+            Source::Mujoco { sparse, .. } => *sparse,
+            Source::External(_) => None,
+        }
     }
 
-    /// One new env (own `MjData`, own noise generator) over the shared model.
-    pub fn build(&self) -> Box<dyn Env> {
-        build_env(
-            self.kind,
-            self.version,
-            self.sparse,
-            &self.model,
-            self.options.max_episode_steps,
-        )
+    /// One new env (own `MjData`, own noise generator) over the shared model; an
+    /// external env's maker may fail.
+    pub fn build(&self) -> Result<Box<dyn Env>, EnvError> {
+        match &self.source {
+            Source::Mujoco {
+                kind,
+                version,
+                sparse,
+                model,
+            } => Ok(build_env(
+                *kind,
+                *version,
+                *sparse,
+                model,
+                self.options.max_episode_steps,
+            )),
+            Source::External(maker) => maker.build(),
+        }
     }
 
-    /// The loaded model, for code that steps MuJoCo directly (the raw-step benchmark).
-    pub fn model(&self) -> &Arc<MjModel> {
-        &self.model
+    /// The loaded model, for code that steps or draws MuJoCo directly (the raw-step
+    /// benchmark, the renderer); an error for an external env.
+    pub fn model(&self) -> Result<&Arc<MjModel>, EnvError> {
+        match &self.source {
+            Source::Mujoco { model, .. } => Ok(model),
+            Source::External(_) => Err(EnvError::InvalidOption(format!(
+                "{} is a Python env: no MuJoCo model of logo-rl's to draw or step",
+                self.spec.id
+            ))),
+        }
     }
 }
 
 /// One env by id with default options: `make("SparseHopper-v4")`.
 pub fn make(id: &str) -> Result<Box<dyn Env>, EnvError> {
-    Ok(EnvFactory::new(id, &EnvOptions::default())?.build())
+    EnvFactory::new(id, &EnvOptions::default())?.build()
 }
 
 fn build_env(

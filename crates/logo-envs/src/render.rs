@@ -81,7 +81,10 @@ impl Renderer {
         if !SIZES.contains(&width) || !SIZES.contains(&height) {
             return Err(RenderError::Size { width, height });
         }
-        let mut model = (**factory.model()).clone();
+        let mut model = (**factory
+            .model()
+            .map_err(|e| RenderError::Frame(e.to_string()))?)
+        .clone();
         // The offscreen buffer must hold the frame (the MJCF files ask for 640 × 480).
         let global = &mut model.vis_mut().global;
         global.offwidth = global.offwidth.max(width as i32);

@@ -104,7 +104,9 @@ impl VecEnv {
         seed: u64,
     ) -> Result<Self, EnvError> {
         let spec = factory.spec().clone();
-        let envs = (0..num_envs).map(|_| factory.build()).collect();
+        let envs = (0..num_envs)
+            .map(|_| factory.build())
+            .collect::<Result<Vec<_>, _>>()?;
         let mut vec_env = Self {
             envs,
             workers,

@@ -82,7 +82,7 @@ fn the_time_limit_truncates_and_does_not_terminate() {
         },
     )
     .unwrap();
-    let mut env = factory.build();
+    let mut env = factory.build().unwrap();
     let mut obs = vec![0.0; 17];
     env.reset(Some(0), &mut obs);
     for t in 1..=5 {
@@ -162,7 +162,7 @@ fn vec_env_results_do_not_depend_on_the_thread_count() {
 fn vec_env_copies_match_single_envs_with_the_same_seeds() {
     let factory = EnvFactory::new("Walker2d-v4", &EnvOptions::default()).unwrap();
     let mut venv = VecEnv::new(&factory, 3, 2, 100).unwrap();
-    let mut singles: Vec<_> = (0..3).map(|_| factory.build()).collect();
+    let mut singles: Vec<_> = (0..3).map(|_| factory.build().unwrap()).collect();
     let mut obs = vec![vec![0.0; 17]; 3];
     for (i, env) in singles.iter_mut().enumerate() {
         env.reset(Some(100 + i as u64), &mut obs[i]);
@@ -244,7 +244,7 @@ fn unknown_ids_and_bad_options_name_the_problem() {
             ..
         })
     ));
-    let mut env = factory.build();
+    let mut env = factory.build().unwrap();
     let mut obs = vec![0.0; 11];
     env.reset(Some(0), &mut obs);
     assert!(matches!(
@@ -312,7 +312,7 @@ fn sparse_kinds_and_their_ids() {
     assert_eq!(delayed.spec().id, "Hopper-v4+delayed");
 
     // The delayed kind on Hopper pays the episode's dense return on its last step only.
-    let mut env = delayed.build();
+    let mut env = delayed.build().unwrap();
     let mut obs = vec![0.0; 11];
     env.reset(Some(3), &mut obs);
     let (mut dense, mut paid) = (0.0, 0.0);

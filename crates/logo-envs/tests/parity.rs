@@ -54,7 +54,7 @@ fn replay(
     reward_column: &str,
 ) -> Result<f64, String> {
     let factory = EnvFactory::new(id, options).map_err(|e| e.to_string())?;
-    let mut env = factory.build();
+    let mut env = factory.build().unwrap();
     let spec = env.spec().clone();
     let (obs_ref, obs_dim) = traj.array("obs");
     let (actions, act_dim) = traj.array("actions");

@@ -48,7 +48,7 @@ impl RustEnv {
             ..EnvOptions::default()
         };
         let factory = EnvFactory::new(id, &options).map_err(env_error)?;
-        let env = factory.build();
+        let env = factory.build().map_err(env_error)?;
         let obs = vec![0.0; factory.spec().obs_dim];
         Ok(Self {
             factory,

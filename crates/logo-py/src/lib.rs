@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 mod env;
 mod errors;
 mod policy;
+mod python_env;
 mod train;
 mod vector;
 

@@ -11,6 +11,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::errors::logo_error;
+use crate::python_env::{PyEnvMaker, Raised};
 
 /// Lines go to `say` (a Python callable). Python's pending signals are checked after each
 /// iteration; Ctrl-C (KeyboardInterrupt), there or inside `say`, or any exception `say`
@@ -82,11 +83,14 @@ fn config(path: Option<PathBuf>, table_json: &str, base: PathBuf) -> PyResult<Tr
 
 /// Runs `logo train` in this process, with the GIL released, and returns the run folder.
 /// `config` and `table_json` make a new run (see [`config`]); `resume` continues one.
+/// `env`: a Python env's maker and its spec (JSON: `id`, `obs_dim`, `act_dim`,
+/// `action_low`, `action_high`, `max_episode_steps`, `dt`), registered under its id
+/// for the run; the first exception it raises is raised again here.
 #[pyfunction]
 #[pyo3(signature = (
     *, say, config = None, table_json = "{}", base = PathBuf::from("."), out = None,
     resume = None, iterations = None, engine = None, backend = None, dtype = None,
-    tensorboard = true
+    tensorboard = true, env = None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn train(
@@ -102,12 +106,18 @@ pub fn train(
     backend: Option<&str>,
     dtype: Option<&str>,
     tensorboard: bool,
+    env: Option<(Py<PyAny>, String)>,
 ) -> PyResult<PathBuf> {
     let engine = EngineArgs {
         engine: choice::<EngineKind>("engine", engine)?,
         backend: choice::<BackendKind>("backend", backend)?,
         dtype: choice::<Dtype>("dtype", dtype)?,
     };
+    // First: the config names the env by its id.
+    let raised = Raised::default();
+    let _registered = env
+        .map(|(make, spec)| register(make, &spec, raised.clone()))
+        .transpose()?;
     let start = match resume {
         Some(dir) => Start::Resume(dir, iterations),
         None => {
@@ -128,9 +138,54 @@ pub fn train(
     };
     let mut console = PythonConsole { say, raised: None };
     let result = py.detach(|| run_job(job, &engine, &mut console));
-    match (result, console.raised) {
+    match (result, console.raised.or_else(|| raised.take())) {
         (_, Some(raised)) => Err(raised),
         (Ok(dir), None) => Ok(dir),
         (Err(e), None) => Err(logo_error(&e)),
     }
+}
+
+/// A Python env's registration, dropped when the call ends whichever way it ends.
+struct Registered(String);
+
+impl Drop for Registered {
+    fn drop(&mut self) {
+        logo_envs::unregister_external(&self.0);
+    }
+}
+
+/// Registers a Python env's maker under its spec's id.
+fn register(make: Py<PyAny>, spec_json: &str, raised: Raised) -> PyResult<Registered> {
+    let spec: serde_json::Value = serde_json::from_str(spec_json)
+        .map_err(|e| PyValueError::new_err(format!("env spec: {e}")))?;
+    let field = |key: &str| {
+        spec.get(key)
+            .cloned()
+            .ok_or_else(|| PyValueError::new_err(format!("env spec: no {key}")))
+    };
+    let number = |key: &str| -> PyResult<usize> {
+        field(key)?
+            .as_u64()
+            .map(|v| v as usize)
+            .ok_or_else(|| PyValueError::new_err(format!("env spec: {key} is not a count")))
+    };
+    let floats = |key: &str| -> PyResult<Vec<f64>> {
+        serde_json::from_value(field(key)?)
+            .map_err(|e| PyValueError::new_err(format!("env spec: {key}: {e}")))
+    };
+    let spec = logo_envs::EnvSpec {
+        id: field("id")?.as_str().unwrap_or_default().to_string(),
+        obs_dim: number("obs_dim")?,
+        act_dim: number("act_dim")?,
+        action_low: floats("action_low")?,
+        action_high: floats("action_high")?,
+        max_episode_steps: number("max_episode_steps")?,
+        frame_skip: 1,
+        dt: field("dt")?.as_f64().unwrap_or(0.0),
+    };
+    let id = spec.id.clone();
+    let maker = PyEnvMaker { make, spec, raised };
+    logo_envs::register_external(std::sync::Arc::new(maker))
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok(Registered(id))
 }

@@ -95,7 +95,7 @@ impl Evaluator {
     /// wrapper leaves the dynamics and the dense reward as they are), unless `eval_env`
     /// names another.
     fn new(config: &TrainConfig, spec: &EnvSpec) -> Result<Self, TrainError> {
-        let env = config.evaluated_env().factory()?.build();
+        let env = config.evaluated_env().factory()?.build()?;
         if env.spec().obs_dim != spec.obs_dim || env.spec().act_dim != spec.act_dim {
             return Err(format!(
                 "eval_env {} does not have the dims of env {}",

@@ -196,7 +196,7 @@ pub fn single_thread_rates(
         .collect();
 
     // Env loop: also records the initial state of every episode, for the raw loop to replay.
-    let mut env = factory.build();
+    let mut env = factory.build()?;
     let mut obs = vec![0.0; spec.obs_dim];
     let mut env_loop = |starts: &mut Vec<(usize, Vec<f64>, Vec<f64>)>| -> Result<f64> {
         starts.clear();
@@ -213,7 +213,7 @@ pub fn single_thread_rates(
         Ok(steps as f64 / start.elapsed().as_secs_f64())
     };
     // The same physics without the env: same initial states, same actions, same steps.
-    let mut data = MjData::new(factory.model().clone());
+    let mut data = MjData::new(factory.model()?.clone());
     let mut raw_loop = |starts: &[(usize, Vec<f64>, Vec<f64>)]| -> f64 {
         let set = |data: &mut MjData<_>, (_, qpos, qvel): &(usize, Vec<f64>, Vec<f64>)| {
             data.reset();

@@ -11,6 +11,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from . import _logo_rl
+from .custom import demos_path, prepare
 from .policy import Policy
 
 
@@ -71,6 +72,8 @@ class Run:
 def train(
     config: str | os.PathLike | Mapping[str, Any] | None = None,
     *,
+    env: str | Callable[[], Any] | None = None,
+    demos: Any = None,
     out: str | os.PathLike | None = None,
     resume: str | os.PathLike | None = None,
     iterations: int | None = None,
@@ -91,9 +94,20 @@ def train(
     ``dtype``: as ``logo train``'s flags. ``progress``: print each iteration's line
     (True), stay quiet (False) or hand each line to a callable.
 
+    ``env``: train on a Gymnasium env of your own instead of the config's: its id, or a
+    callable returning a new one (flat Box spaces, a time limit). The Rust sampler steps
+    it, holding the GIL only around its ``reset`` and ``step``; the run optimises and
+    evaluates its own reward, and reports ``info["dense_reward"]`` beside it where a
+    wrapper (:class:`logo_rl.SparseReward`) made it sparse. ``demos``: the demonstrations,
+    a Minari dataset (its folder, its local id, or the dataset), a ``.npy`` of LOGO's
+    ``[observation ‖ action]`` rows, or a list of ``(observations, actions)``
+    trajectories (written into the run folder); None keeps the config's.
+
     Ctrl-C stops the run after the iteration in progress; the run folder then holds that
     iteration's checkpoint (``train(resume=run.path)`` goes on, exactly as the run would
-    have) and KeyboardInterrupt is raised.
+    have, for logo-rl's envs; a Python env's own state is not saved, so its copies start
+    new episodes there) and KeyboardInterrupt is raised. An exception of a Python env
+    stops the run the same way and is raised again, with its traceback.
     """
     if progress is True:
         say = lambda line: print(line, flush=True)  # noqa: E731
@@ -103,9 +117,14 @@ def train(
         say = progress
     else:
         raise TypeError(f"progress={progress!r}: expected True, False or a callable")
+    python_env = None
     if resume is not None:
-        if config is not None or overrides:
-            raise ValueError("resume continues a run with its own config: drop config and overrides")
+        if config is not None or overrides or demos is not None:
+            raise ValueError(
+                "resume continues a run with its own config: drop config, demos and overrides"
+            )
+        if env is not None:
+            python_env = _python_env(env, _saved_env_id(Path(resume)))
         path = _logo_rl.train(
             say=say,
             resume=os.fspath(resume),
@@ -114,6 +133,7 @@ def train(
             backend=backend,
             dtype=dtype,
             tensorboard=tensorboard,
+            env=python_env,
         )
         return Run(path)
     if config is None:
@@ -126,6 +146,18 @@ def train(
         table = _lay_over(dict(config), table)
     else:
         path_arg = os.fspath(config)
+    if env is not None:
+        python_env = _python_env(env, None)
+        spec = json.loads(python_env[1])
+        table["env"] = table["eval_env"] = spec["id"]
+        # A Python env may raise at any step: every whole iteration keeps its checkpoint.
+        table.setdefault("checkpoint_every", 1)
+        if demos is not None:
+            run_dir = Path(out) if out is not None else _default_out(config, table)
+            where = demos_path(demos, run_dir, spec["obs_dim"], spec["act_dim"])
+            table = _lay_over(table, {"guidance": {"demos": where}})
+    elif demos is not None:
+        raise ValueError("demos= goes with env= (a config's own env has its demos in the config)")
     path = _logo_rl.train(
         say=say,
         config=path_arg,
@@ -136,8 +168,40 @@ def train(
         backend=backend,
         dtype=dtype,
         tensorboard=tensorboard,
+        env=python_env,
     )
     return Run(path)
+
+
+def _python_env(env, saved_id: str | None) -> tuple[Callable, str]:
+    make, spec = prepare(env)
+    if saved_id is not None:
+        spec["id"] = saved_id
+    return make, json.dumps(spec)
+
+
+def _saved_env_id(run: Path) -> str | None:
+    import tomllib
+
+    try:
+        saved = tomllib.loads((run / "config.toml").read_text())
+    except (OSError, tomllib.TOMLDecodeError):
+        return None  # the resume itself says what is wrong with the folder
+    env = saved.get("env")
+    env = env.get("id") if isinstance(env, dict) else env
+    return env if isinstance(env, str) and env.startswith("python:") else None
+
+
+def _default_out(config, table: Mapping[str, Any]) -> Path:
+    """`logo train`'s default folder, runs/<config name>-seed<seed>."""
+    import tomllib
+
+    if isinstance(config, Mapping):
+        name, seed = "run", table.get("seed", config.get("seed", 0))
+    else:
+        name = Path(config).stem
+        seed = table.get("seed", tomllib.loads(Path(config).read_text()).get("seed", 0))
+    return Path("runs") / f"{name}-seed{seed}"
 
 
 def _lay_over(under: dict, top: Mapping) -> dict:

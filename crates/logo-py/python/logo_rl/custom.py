@@ -1,0 +1,147 @@
+"""A user's own Gymnasium env and demonstrations, made ready for the Rust trainer."""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+from typing import Any, Callable
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+from gymnasium.wrappers import TimeLimit
+
+PREFIX = "python:"  # logo_envs::EXTERNAL_PREFIX
+
+
+class _Adapter:
+    """What the Rust side calls: float64 arrays in and out, shapes and values checked."""
+
+    def __init__(self, env: gym.Env, name: str, obs_dim: int):
+        self.env, self.name, self.obs_dim = env, name, obs_dim
+
+    def _obs(self, obs, where: str) -> np.ndarray:
+        array = np.asarray(obs, dtype=np.float64).reshape(-1)
+        if array.shape != (self.obs_dim,):
+            raise ValueError(
+                f"{self.name}: {where} returned an observation of shape {np.shape(obs)}, "
+                f"expected ({self.obs_dim},)"
+            )
+        bad = np.flatnonzero(~np.isfinite(array))
+        if bad.size:
+            raise ValueError(
+                f"{self.name}: {where} returned an observation with {array[bad[0]]} at index {bad[0]}"
+            )
+        return np.ascontiguousarray(array)
+
+    def reset(self, seed: int | None):
+        obs, info = self.env.reset(seed=None if seed is None else int(seed) % (1 << 63))
+        return self._obs(obs, "reset"), float(info.get("x_position", 0.0))
+
+    def step(self, action: np.ndarray):
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        reward = float(reward)
+        if not np.isfinite(reward):
+            raise ValueError(f"{self.name}: step returned the reward {reward}")
+        dense = float(info.get("dense_reward", reward))
+        x = float(info.get("x_position", 0.0))
+        return self._obs(obs, "step"), reward, bool(terminated), bool(truncated), dense, x
+
+
+def _time_limit(env: gym.Env) -> int | None:
+    while True:
+        if isinstance(env, TimeLimit):
+            return env._max_episode_steps
+        if not isinstance(env, gym.Wrapper):
+            return None
+        env = env.env
+
+
+def prepare(env: str | Callable[[], gym.Env]) -> tuple[Callable[[], _Adapter], dict[str, Any]]:
+    """The maker of adapted copies of `env` (a Gymnasium id, or a callable returning a new
+    env) and the spec the Rust side needs; raises on what the trainer cannot take."""
+    if isinstance(env, gym.Env):
+        raise TypeError(
+            "env= takes a Gymnasium id or a callable returning a new env (the trainer makes "
+            "several copies), not an env instance: env=lambda: MyEnv()"
+        )
+    if isinstance(env, str):
+        make, label = (lambda: gym.make(env)), env
+    elif callable(env):
+        make, label = env, getattr(env, "__name__", type(env).__name__)
+        if label == "<lambda>":
+            label = "env"
+    else:
+        raise TypeError(f"env={env!r}: expected a Gymnasium id or a callable returning an env")
+    name = PREFIX + re.sub(r"[^A-Za-z0-9_.+()-]", "_", label)
+    probe = make()
+    try:
+        obs_space, act_space = probe.observation_space, probe.action_space
+        for what, space in (("observation", obs_space), ("action", act_space)):
+            if not isinstance(space, spaces.Box) or len(space.shape) != 1:
+                raise TypeError(
+                    f"{label}: its {what} space is {space}; logo-rl trains on flat Box "
+                    "observation and action spaces"
+                )
+        steps = _time_limit(probe)
+        if steps is None:
+            raise ValueError(
+                f"{label} never ends an episode (no TimeLimit): batches are whole episodes; "
+                "wrap it, gymnasium.wrappers.TimeLimit(env, max_episode_steps=1000), or "
+                "register it with max_episode_steps"
+            )
+        spec = {
+            "id": name,
+            "obs_dim": int(obs_space.shape[0]),
+            "act_dim": int(act_space.shape[0]),
+            "action_low": [float(v) for v in act_space.low],
+            "action_high": [float(v) for v in act_space.high],
+            "max_episode_steps": int(steps),
+            "dt": float(getattr(probe.unwrapped, "dt", 0.0)),
+        }
+    finally:
+        probe.close()
+    obs_dim = spec["obs_dim"]
+    return (lambda: _Adapter(make(), name, obs_dim)), spec
+
+
+def demos_path(demos: Any, out: Path, obs_dim: int, act_dim: int) -> str:
+    """A path the Rust side reads for `demos`: a Minari dataset folder (its path, its local
+    id, or the dataset object) as it is, a list of trajectories written as LOGO's `.npy`
+    rows ``[observation ‖ action]`` into the run folder."""
+    if isinstance(demos, (str, os.PathLike)) and Path(demos).exists():
+        return str(Path(demos).resolve())
+    if isinstance(demos, str) or hasattr(demos, "storage"):
+        if isinstance(demos, str):
+            import minari
+
+            demos = minari.load_dataset(demos)
+        return str(Path(demos.storage.data_path).resolve().parent)
+    if isinstance(demos, (list, tuple)):
+        rows = []
+        for i, trajectory in enumerate(demos):
+            if isinstance(trajectory, dict):
+                obs, actions = trajectory.get("observations"), trajectory.get("actions")
+            else:
+                obs, actions = trajectory
+            obs = np.asarray(obs, dtype=np.float64)
+            actions = np.asarray(actions, dtype=np.float64).reshape(len(actions), -1)
+            if obs.ndim != 2 or obs.shape[1] != obs_dim or actions.shape[1] != act_dim:
+                raise ValueError(
+                    f"demos[{i}]: observations {obs.shape} and actions {actions.shape}; "
+                    f"the env's are [steps, {obs_dim}] and [steps, {act_dim}]"
+                )
+            if len(obs) not in (len(actions), len(actions) + 1):
+                raise ValueError(
+                    f"demos[{i}]: {len(obs)} observations for {len(actions)} actions"
+                )
+            rows.append(np.concatenate([obs[: len(actions)], actions], axis=1))
+        out.mkdir(parents=True, exist_ok=True)
+        path = out / "demonstrations.npy"
+        np.save(path, np.concatenate(rows) if rows else np.zeros((0, obs_dim + act_dim)))
+        return str(path.resolve())
+    raise TypeError(
+        f"demos={type(demos).__name__}: expected a Minari dataset (a folder, an id, the "
+        "dataset), a .npy path, or a list of (observations, actions) trajectories"
+    )
