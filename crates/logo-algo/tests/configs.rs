@@ -36,7 +36,7 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
             let config = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let spec = config.env.factory().unwrap().spec().clone();
             EnvFactory::new(&config.eval_env_id(), &EnvOptions::default()).unwrap();
-            if algo != "experiments" && algo != "behaviour" {
+            if !matches!(algo.as_str(), "experiments" | "behaviour" | "templates") {
                 assert_eq!(
                     config.guidance.is_some(),
                     algo.starts_with("logo"),

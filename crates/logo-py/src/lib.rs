@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 
 mod env;
 mod errors;
+mod minari;
 mod policy;
 mod python_env;
 mod train;
@@ -21,6 +22,7 @@ fn _logo_rl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<vector::RustVecEnv>()?;
     m.add_function(wrap_pyfunction!(env::env_ids, m)?)?;
     m.add_function(wrap_pyfunction!(train::train, m)?)?;
+    m.add_function(wrap_pyfunction!(minari::write_dataset, m)?)?;
     m.add("LogoError", m.py().get_type::<LogoError>())?;
     m.add("MUJOCO_VERSION", "3.17.0")?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -8,7 +8,7 @@ import pytest
 from gymnasium import spaces
 
 import logo_rl
-from conftest import IDP_CONFIG, metrics_without_timings
+from conftest import IDP_CONFIG, ROOT, metrics_without_timings
 
 GOAL = 1.0
 
@@ -66,8 +66,9 @@ SMALL = dict(samples_per_iter=1000, eval_steps=200, tensorboard=False, progress=
 
 def test_a_custom_env_trains_end_to_end_and_resumes(tmp_path):
     out = tmp_path / "point"
+    template = ROOT / "configs" / "templates" / "new_task.toml"
     run = logo_rl.train(
-        IDP_CONFIG, env=sparse_point, demos=controller_demos(), seed=0, iterations=2, out=out, **SMALL
+        template, env=sparse_point, demos=controller_demos(), seed=0, iterations=2, out=out, **SMALL
     )
     rows = metrics_without_timings(run.path)
     assert len(rows) == 2
@@ -114,3 +115,19 @@ def test_bad_envs_and_demos_are_python_exceptions(tmp_path):
         train(env=sparse_point)
     with pytest.raises(ValueError, match="demos= goes with env="):
         train(demos=controller_demos())
+
+
+def test_a_controllers_demonstrations_recorded_into_minari_train(tmp_path):
+    import minari
+
+    controller = lambda obs: np.clip([2.0 * (GOAL - obs[0]) - 3.0 * obs[1]], -1, 1)  # noqa: E731
+    path = logo_rl.record(sparse_point, controller, episodes=4, path=tmp_path / "pd")
+    dataset = minari.MinariDataset(path / "data")  # Python's minari reads it
+    assert dataset.total_episodes == 4 and dataset.total_steps == 400
+    run = logo_rl.train(
+        IDP_CONFIG, env=sparse_point, demos=path, seed=1, iterations=1, out=tmp_path / "run", **SMALL
+    )
+    assert str(path) in run.config_path.read_text()
+    # A trained policy records too (sampled actions, as LOGO's demonstrations).
+    again = logo_rl.record(sparse_point, run.policy(), episodes=2, path=tmp_path / "logo")
+    assert minari.MinariDataset(again / "data").total_episodes == 2

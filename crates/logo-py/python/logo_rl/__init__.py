@@ -7,7 +7,8 @@ logo-rl's Rust trainer, its Gymnasium-exact MuJoCo envs and its trained policies
 - :func:`train` runs ``logo train`` in this process and returns a :class:`Run`;
 - :func:`load` opens a checkpoint's policy (:class:`Policy`);
 - :class:`LogoVectorEnv`: N copies of an env on Rust threads, Gymnasium's VectorEnv API;
-- :class:`SparseReward`: logo-rl's sparse kinds on any Gymnasium env.
+- :class:`SparseReward`: logo-rl's sparse kinds on any Gymnasium env;
+- :func:`record`: demonstrations of a policy or a controller into Minari.
 
 The extension links MuJoCo 3.17.0 from the ``mujoco`` wheel, and the envs read their MJCF
 files from the ``gymnasium`` 1.4.0 wheel (``LOGO_MODELS_DIR`` overrides that).
@@ -30,6 +31,7 @@ _os.environ.setdefault("LOGO_MODELS_DIR", _models_dir())
 from ._logo_rl import MUJOCO_VERSION, LogoError, __version__, env_ids  # noqa: E402
 from .envs import LogoEnv, register_envs  # noqa: E402
 from .policy import Policy, load  # noqa: E402
+from .record import record  # noqa: E402
 from .run import Run, train  # noqa: E402
 from .vector import LogoVectorEnv  # noqa: E402
 from .wrappers import SparseReward  # noqa: E402
@@ -47,6 +49,7 @@ __all__ = [
     "__version__",
     "env_ids",
     "load",
+    "record",
     "register_envs",
     "train",
 ]
