@@ -19,8 +19,8 @@ pub trait EnvMaker: Send + Sync {
 
 static MAKERS: Mutex<BTreeMap<String, Arc<dyn EnvMaker>>> = Mutex::new(BTreeMap::new());
 
-/// Registers `maker` under its spec's id, which must start with [`EXTERNAL_PREFIX`];
-/// replaces an earlier maker of that id.
+/// Registers `maker` under its spec's id, which must start with [`EXTERNAL_PREFIX`] and
+/// must not be in use (two runs of one process training at once name their envs apart).
 pub fn register_external(maker: Arc<dyn EnvMaker>) -> Result<(), EnvError> {
     let id = maker.spec().id.clone();
     if !id.starts_with(EXTERNAL_PREFIX) || id.len() == EXTERNAL_PREFIX.len() {
@@ -29,14 +29,23 @@ pub fn register_external(maker: Arc<dyn EnvMaker>) -> Result<(), EnvError> {
         )));
     }
     let mut makers = MAKERS.lock().unwrap_or_else(PoisonError::into_inner);
+    if makers.contains_key(&id) {
+        return Err(EnvError::InvalidOption(format!(
+            "{id} is in use by another run of this process: give this env another name"
+        )));
+    }
     makers.insert(id, maker);
     Ok(())
 }
 
-/// Forgets the maker of `id` (the run that needed it is over).
-pub fn unregister_external(id: &str) {
+/// Forgets `maker` (the run that needed it is over); another maker registered under the
+/// same id since stays.
+pub fn unregister_external(maker: &Arc<dyn EnvMaker>) {
     let mut makers = MAKERS.lock().unwrap_or_else(PoisonError::into_inner);
-    makers.remove(id);
+    let id = &maker.spec().id;
+    if makers.get(id).is_some_and(|m| Arc::ptr_eq(m, maker)) {
+        makers.remove(id);
+    }
 }
 
 /// The maker registered as `id`; for an id with the prefix that none is registered as, an

@@ -6,7 +6,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::LogoError;
+use crate::errors::env_error;
 
 /// Every id `RustEnv` takes by name (`logo envs`): the dense tasks, then LOGO's sparse ones.
 #[pyfunction]
@@ -14,8 +14,14 @@ pub fn env_ids() -> Vec<String> {
     logo_envs::all_env_ids()
 }
 
-fn env_error(e: impl std::fmt::Display) -> PyErr {
-    LogoError::new_err(e.to_string())
+/// A `python:` id names an env a training run registered; its copies are the trainer's.
+pub(crate) fn refuse_python_id(id: &str) -> PyResult<()> {
+    if id.starts_with(logo_envs::EXTERNAL_PREFIX) {
+        return Err(PyValueError::new_err(format!(
+            "{id}: a Python env is used as itself from Python, not through logo_rl's Rust envs"
+        )));
+    }
+    Ok(())
 }
 
 /// A Rust env: `f64` observations and actions, the project's own seeded reset stream.
@@ -38,6 +44,7 @@ impl RustEnv {
     #[new]
     #[pyo3(signature = (id, max_episode_steps = 1000))]
     fn new(id: &str, max_episode_steps: usize) -> PyResult<Self> {
+        refuse_python_id(id)?;
         if max_episode_steps == 0 {
             return Err(PyValueError::new_err(
                 "max_episode_steps must be at least 1",

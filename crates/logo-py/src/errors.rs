@@ -22,3 +22,8 @@ pub(crate) fn logo_error(e: &anyhow::Error) -> PyErr {
     }
     LogoError::new_err(line)
 }
+
+/// An error of the Rust envs (an unknown id, a non-finite action) as a LogoError.
+pub(crate) fn env_error(e: impl std::fmt::Display) -> PyErr {
+    LogoError::new_err(e.to_string())
+}

@@ -67,9 +67,11 @@ impl Policy {
                 self.obs_dim
             )));
         }
+        // A copy: Python may write the array while the GIL is released.
         let obs = obs
             .as_slice()
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .to_vec();
         if let Some(i) = obs.iter().position(|v| !v.is_finite()) {
             return Err(PyValueError::new_err(format!(
                 "observation row {} has a non-finite value {} at index {}",
@@ -78,7 +80,7 @@ impl Policy {
                 i % width
             )));
         }
-        let means = py.detach(|| self.acting.mean(obs));
+        let means = py.detach(|| self.acting.mean(&obs));
         means.into_pyarray(py).reshape([rows, self.act_dim])
     }
 

@@ -66,6 +66,17 @@ struct PyEnv {
     x: f64,
 }
 
+impl Drop for PyEnv {
+    /// Closes the user's env (its renderer, its devices), as Gymnasium's `close`.
+    fn drop(&mut self) {
+        Python::attach(|py| {
+            if let Err(e) = self.adapter.call_method0(py, "close") {
+                self.raised.keep(&self.spec.id, "close", e);
+            }
+        });
+    }
+}
+
 fn copy_into(array: &Bound<'_, PyAny>, obs: &mut [f64]) -> PyResult<()> {
     let array: PyReadonlyArray1<'_, f64> = array.extract()?;
     obs.copy_from_slice(array.as_slice()?);

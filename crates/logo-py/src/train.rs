@@ -2,11 +2,13 @@
 //! callable, Ctrl-C honoured between iterations (the run keeps a checkpoint there).
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use clap::ValueEnum;
 use logo_algo::{Schedule, TrainConfig};
 use logo_cli::engine::{BackendKind, Dtype, EngineArgs, EngineKind};
 use logo_cli::train::{Console, Job, Start, default_out, run_job};
+use logo_envs::{EnvMaker, EnvSpec};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -83,9 +85,8 @@ fn config(path: Option<PathBuf>, table_json: &str, base: PathBuf) -> PyResult<Tr
 
 /// Runs `logo train` in this process, with the GIL released, and returns the run folder.
 /// `config` and `table_json` make a new run (see [`config`]); `resume` continues one.
-/// `env`: a Python env's maker and its spec (JSON: `id`, `obs_dim`, `act_dim`,
-/// `action_low`, `action_high`, `max_episode_steps`, `dt`), registered under its id
-/// for the run; the first exception it raises is raised again here.
+/// `env`: a Python env's maker and its spec ([`SpecArg`]), registered under its id for the
+/// run; the first exception it raises is raised again here.
 #[pyfunction]
 #[pyo3(signature = (
     *, say, config = None, table_json = "{}", base = PathBuf::from("."), out = None,
@@ -106,7 +107,7 @@ pub fn train(
     backend: Option<&str>,
     dtype: Option<&str>,
     tensorboard: bool,
-    env: Option<(Py<PyAny>, String)>,
+    env: Option<(Py<PyAny>, SpecArg)>,
 ) -> PyResult<PathBuf> {
     let engine = EngineArgs {
         engine: choice::<EngineKind>("engine", engine)?,
@@ -116,7 +117,7 @@ pub fn train(
     // First: the config names the env by its id.
     let raised = Raised::default();
     let _registered = env
-        .map(|(make, spec)| register(make, &spec, raised.clone()))
+        .map(|(make, spec)| register(make, spec, raised.clone()))
         .transpose()?;
     let start = match resume {
         Some(dir) => Start::Resume(dir, iterations),
@@ -146,7 +147,7 @@ pub fn train(
 }
 
 /// A Python env's registration, dropped when the call ends whichever way it ends.
-struct Registered(String);
+struct Registered(Arc<dyn EnvMaker>);
 
 impl Drop for Registered {
     fn drop(&mut self) {
@@ -154,38 +155,42 @@ impl Drop for Registered {
     }
 }
 
+/// What the Rust side needs of a Python env (`logo_rl.custom.prepare`'s dict).
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub struct SpecArg {
+    id: String,
+    obs_dim: usize,
+    act_dim: usize,
+    action_low: Vec<f64>,
+    action_high: Vec<f64>,
+    max_episode_steps: usize,
+    dt: f64,
+}
+
 /// Registers a Python env's maker under its spec's id.
-fn register(make: Py<PyAny>, spec_json: &str, raised: Raised) -> PyResult<Registered> {
-    let spec: serde_json::Value = serde_json::from_str(spec_json)
-        .map_err(|e| PyValueError::new_err(format!("env spec: {e}")))?;
-    let field = |key: &str| {
-        spec.get(key)
-            .cloned()
-            .ok_or_else(|| PyValueError::new_err(format!("env spec: no {key}")))
-    };
-    let number = |key: &str| -> PyResult<usize> {
-        field(key)?
-            .as_u64()
-            .map(|v| v as usize)
-            .ok_or_else(|| PyValueError::new_err(format!("env spec: {key} is not a count")))
-    };
-    let floats = |key: &str| -> PyResult<Vec<f64>> {
-        serde_json::from_value(field(key)?)
-            .map_err(|e| PyValueError::new_err(format!("env spec: {key}: {e}")))
-    };
-    let spec = logo_envs::EnvSpec {
-        id: field("id")?.as_str().unwrap_or_default().to_string(),
-        obs_dim: number("obs_dim")?,
-        act_dim: number("act_dim")?,
-        action_low: floats("action_low")?,
-        action_high: floats("action_high")?,
-        max_episode_steps: number("max_episode_steps")?,
+fn register(make: Py<PyAny>, spec: SpecArg, raised: Raised) -> PyResult<Registered> {
+    if spec.action_low.len() != spec.act_dim || spec.action_high.len() != spec.act_dim {
+        return Err(PyValueError::new_err(format!(
+            "{}: action bounds of {} and {} values for {} actions",
+            spec.id,
+            spec.action_low.len(),
+            spec.action_high.len(),
+            spec.act_dim
+        )));
+    }
+    let spec = EnvSpec {
+        id: spec.id,
+        obs_dim: spec.obs_dim,
+        act_dim: spec.act_dim,
+        action_low: spec.action_low,
+        action_high: spec.action_high,
+        max_episode_steps: spec.max_episode_steps,
         frame_skip: 1,
-        dt: field("dt")?.as_f64().unwrap_or(0.0),
+        dt: spec.dt,
     };
-    let id = spec.id.clone();
-    let maker = PyEnvMaker { make, spec, raised };
-    logo_envs::register_external(std::sync::Arc::new(maker))
+    let maker: Arc<dyn EnvMaker> = Arc::new(PyEnvMaker { make, spec, raised });
+    logo_envs::register_external(maker.clone())
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    Ok(Registered(id))
+    Ok(Registered(maker))
 }

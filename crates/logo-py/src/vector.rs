@@ -8,11 +8,8 @@ use numpy::{
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::LogoError;
-
-fn env_error(e: impl std::fmt::Display) -> PyErr {
-    LogoError::new_err(e.to_string())
-}
+use crate::env::refuse_python_id;
+use crate::errors::env_error;
 
 /// Not shared between Python threads; each step runs on the env's own worker threads.
 #[pyclass(unsendable, module = "logo_rl._logo_rl")]
@@ -47,6 +44,7 @@ impl RustVecEnv {
         seed: u64,
         max_episode_steps: usize,
     ) -> PyResult<Self> {
+        refuse_python_id(id)?;
         if max_episode_steps == 0 {
             return Err(PyValueError::new_err(
                 "max_episode_steps must be at least 1",
@@ -64,6 +62,22 @@ impl RustVecEnv {
     #[getter]
     fn num_envs(&self) -> usize {
         self.venv.num_envs()
+    }
+    #[getter]
+    fn id(&self) -> String {
+        self.venv.spec().id.clone()
+    }
+    #[getter]
+    fn obs_dim(&self) -> usize {
+        self.venv.spec().obs_dim
+    }
+    #[getter]
+    fn action_low<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.venv.spec().action_low.clone().into_pyarray(py)
+    }
+    #[getter]
+    fn action_high<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.venv.spec().action_high.clone().into_pyarray(py)
     }
 
     /// Resets every copy: copy i with seed `seed + i`, or each continuing its own stream.

@@ -115,6 +115,10 @@ def test_bad_envs_and_demos_are_python_exceptions(tmp_path):
         train(env=sparse_point)
     with pytest.raises(ValueError, match="demos= goes with env="):
         train(demos=controller_demos())
+    # A run of logo-rl's own env resumes without env=.
+    rust_run = logo_rl.train(IDP_CONFIG, seed=0, iterations=1, out=tmp_path / "rust", **SMALL)
+    with pytest.raises(ValueError, match="not a run on a Python env"):
+        logo_rl.train(resume=rust_run.path, env=sparse_point, progress=False)
 
 
 def test_a_controllers_demonstrations_recorded_into_minari_train(tmp_path):

@@ -84,6 +84,15 @@ def test_sparse_envs_report_gymnasiums_dense_reward_beside_their_own(env_id):
     assert sum(r == 0.0 for r in paid) > len(paid) // 2
 
 
+@pytest.mark.parametrize("limit", [50, 1200])
+def test_gymnasium_makes_time_limit_ends_the_episodes(limit):
+    env = gym.make("logo_rl/HalfCheetah-v4", max_episode_steps=limit)  # never terminates
+    env.reset(seed=0)
+    for step in range(1, limit + 1):
+        *_, terminated, truncated, _ = env.step(np.zeros(6))
+        assert not terminated and truncated == (step == limit)
+
+
 def test_seeded_resets_follow_the_projects_own_stream():
     env = gym.make("logo_rl/Hopper-v4")
     first, _ = env.reset(seed=5)
@@ -123,6 +132,8 @@ def test_bad_input_raises_python_exceptions_naming_it():
         logo_rl.LogoEnv("Hopper-v9")
     with pytest.raises(ValueError, match="rgb_array"):
         logo_rl.LogoEnv("Hopper-v4", render_mode="human")
+    with pytest.raises(ValueError, match="a Python env is used as itself"):
+        logo_rl.LogoEnv("python:mine")
     # The env is still usable after each error.
     obs, *_ = env.step(np.zeros(3))
     assert np.all(np.isfinite(obs))

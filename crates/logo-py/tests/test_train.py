@@ -2,12 +2,14 @@
 overrides, Ctrl-C with an exact resume, and errors as Python exceptions."""
 
 import os
+import re
 import signal
 import subprocess
 import sys
 import textwrap
 import tomllib
 
+import numpy as np
 import pytest
 
 import logo_rl
@@ -28,8 +30,9 @@ def cli_run(tmp_path_factory, logo_bin):
 
 def test_train_writes_the_metrics_of_logo_train(cli_run, tmp_path):
     lines = []
+    # NumPy integers and paths are taken as TOML values.
     run = logo_rl.train(
-        IDP_CONFIG, seed=3, iterations=ITERATIONS, out=tmp_path / "py",
+        IDP_CONFIG, seed=np.int64(3), iterations=ITERATIONS, out=tmp_path / "py",
         tensorboard=False, progress=lines.append,
     )
     assert metrics_without_timings(run.path) == metrics_without_timings(cli_run)
@@ -92,6 +95,43 @@ def test_ctrl_c_keeps_a_checkpoint_that_resumes_exactly(cli_run, tmp_path):
     assert metrics_without_timings(run.path) == metrics_without_timings(cli_run)
 
 
+SLOW_PRINTER = textwrap.dedent(
+    """
+    import sys
+    import logo_rl
+    try:
+        logo_rl.train(sys.argv[1], seed=3, iterations=int(sys.argv[3]), out=sys.argv[2],
+                      tensorboard=False)
+    except KeyboardInterrupt:
+        print("KeyboardInterrupt", flush=True)
+        sys.exit(130)
+    """
+)
+
+
+def test_ctrl_c_while_rust_computes_stops_after_the_iteration(cli_run, tmp_path):
+    # SIGINT from outside, as a terminal's Ctrl-C: Python sees it when the trainer asks
+    # between iterations (the GIL is released while Rust computes).
+    out = tmp_path / "sigint"
+    child = subprocess.Popen(
+        [sys.executable, "-u", "-c", SLOW_PRINTER, str(IDP_CONFIG), str(out), str(ITERATIONS)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT,
+    )
+    for line in child.stdout:
+        if line.startswith("[   2/"):
+            child.send_signal(signal.SIGINT)
+            break
+    stdout, stderr = child.communicate(timeout=600)
+    assert child.returncode == 130, stdout + stderr
+    stopped = re.search(r"stopped after iteration (\d+)", stderr)
+    assert stopped, stderr
+    kept = int(stopped.group(1))
+    assert 2 <= kept < ITERATIONS
+    assert len(metrics_without_timings(out)) == kept
+    run = logo_rl.train(resume=out, progress=False)
+    assert metrics_without_timings(run.path) == metrics_without_timings(cli_run)
+
+
 def test_bad_input_is_a_python_exception(tmp_path):
     with pytest.raises(logo_rl.LogoError, match="samples_per_iter"):
         logo_rl.train(IDP_CONFIG, samples_per_iter=0, out=tmp_path / "a", progress=False)
@@ -105,4 +145,6 @@ def test_bad_input_is_a_python_exception(tmp_path):
         logo_rl.train(IDP_CONFIG, resume=tmp_path / "c")
     with pytest.raises(logo_rl.LogoError, match="--resume"):
         logo_rl.train(resume=tmp_path / "no-run", progress=False)
+    with pytest.raises(TypeError, match="not a TOML value"):
+        logo_rl.train(IDP_CONFIG, seed=object(), out=tmp_path / "d", progress=False)
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()

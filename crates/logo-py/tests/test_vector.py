@@ -27,8 +27,9 @@ def test_each_copy_steps_as_a_single_env_with_same_step_autoreset():
             assert inf["dense_reward"] == info["dense_reward"][i]
             if te or tr:
                 ended += 1
-                assert info["_final_obs"][i]
+                assert info["_final_obs"][i] and info["final_info"]["_dense_reward"][i]
                 np.testing.assert_array_equal(info["final_obs"][i], o)
+                assert info["final_info"]["dense_reward"][i] == inf["dense_reward"]
                 o, _ = env.reset()  # the copy went on from its own stream, as this one does
             np.testing.assert_array_equal(obs[i], o)
     assert ended > 3, "no episode ended: autoreset untested"
@@ -47,3 +48,5 @@ def test_spaces_and_errors():
         venv.step(bad)
     with pytest.raises(logo_rl.LogoError, match="at least one copy"):
         LogoVectorEnv("Walker2d-v4", 0, threads=1)
+    with pytest.raises(ValueError, match="a Python env is used as itself"):
+        LogoVectorEnv("python:mine", 2, threads=1)

@@ -37,7 +37,10 @@ class _Adapter:
 
     def reset(self, seed: int | None):
         obs, info = self.env.reset(seed=None if seed is None else int(seed) % (1 << 63))
-        return self._obs(obs, "reset"), float(info.get("x_position", 0.0))
+        x = float(info.get("x_position", 0.0))
+        if not np.isfinite(x):
+            raise ValueError(f"{self.name}: reset returned info['x_position'] = {x}")
+        return self._obs(obs, "reset"), x
 
     def step(self, action: np.ndarray):
         obs, reward, terminated, truncated, info = self.env.step(action)
@@ -46,7 +49,13 @@ class _Adapter:
             raise ValueError(f"{self.name}: step returned the reward {reward}")
         dense = float(info.get("dense_reward", reward))
         x = float(info.get("x_position", 0.0))
+        for key, value in (("dense_reward", dense), ("x_position", x)):
+            if not np.isfinite(value):
+                raise ValueError(f"{self.name}: step returned info[{key!r}] = {value}")
         return self._obs(obs, "step"), reward, bool(terminated), bool(truncated), dense, x
+
+    def close(self) -> None:
+        self.env.close()
 
 
 def _time_limit(env: gym.Env) -> int | None:
@@ -91,12 +100,15 @@ def prepare(env: str | Callable[[], gym.Env]) -> tuple[Callable[[], _Adapter], d
                 "wrap it, gymnasium.wrappers.TimeLimit(env, max_episode_steps=1000), or "
                 "register it with max_episode_steps"
             )
+        low, high = act_space.low.astype(np.float64), act_space.high.astype(np.float64)
+        if np.isnan(low).any() or np.isnan(high).any() or (low > high).any():
+            raise ValueError(f"{label}: its action space's bounds {low}, {high} are not a range")
         spec = {
             "id": name,
             "obs_dim": int(obs_space.shape[0]),
             "act_dim": int(act_space.shape[0]),
-            "action_low": [float(v) for v in act_space.low],
-            "action_high": [float(v) for v in act_space.high],
+            "action_low": [float(v) for v in low],
+            "action_high": [float(v) for v in high],
             "max_episode_steps": int(steps),
             "dt": float(getattr(probe.unwrapped, "dt", 0.0)),
         }

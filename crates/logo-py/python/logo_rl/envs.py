@@ -12,6 +12,7 @@ from ._logo_rl import RustEnv, env_ids
 
 NAMESPACE = "logo_rl"
 DEFAULT_SIZE = 480  # Gymnasium's MuJoCo frames
+NO_LIMIT = 1 << 62
 
 
 class LogoEnv(gym.Env):
@@ -33,14 +34,16 @@ class LogoEnv(gym.Env):
     def __init__(
         self,
         env_id: str,
-        max_episode_steps: int = 1000,
+        max_episode_steps: int | None = 1000,
         render_mode: str | None = None,
         width: int = DEFAULT_SIZE,
         height: int = DEFAULT_SIZE,
     ):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode={render_mode!r}: logo_rl envs render 'rgb_array' only")
-        self._env = RustEnv(env_id, max_episode_steps)
+        # None: no limit of the env's own (gymnasium.make's TimeLimit, whatever
+        # max_episode_steps it was given, ends the episodes).
+        self._env = RustEnv(env_id, NO_LIMIT if max_episode_steps is None else max_episode_steps)
         self.env_id = self._env.id
         self.render_mode = render_mode
         self.width, self.height = width, height
@@ -62,9 +65,7 @@ class LogoEnv(gym.Env):
         return self._env.sparse
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
-        super().reset(seed=seed)
-        if seed is not None and seed < 0:
-            raise ValueError(f"seed={seed}: a seed is a non-negative integer")
+        super().reset(seed=seed)  # NumPy's generator too, and its checks of the seed
         obs = self._env.reset(seed)
         return obs, {}
 
@@ -105,7 +106,7 @@ def register_envs() -> list[str]:
             gym.register(
                 id=name,
                 entry_point="logo_rl.envs:LogoEnv",
-                kwargs={"env_id": env_id},
+                kwargs={"env_id": env_id, "max_episode_steps": None},
                 max_episode_steps=1000,
             )
         names.append(name)

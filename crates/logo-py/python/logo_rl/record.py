@@ -62,12 +62,14 @@ def record(
                 terminations, truncations,
             ))
     finally:
-        adapter.env.close()
+        adapter.close()
     path = Path(path)
     write_dataset(
         path, played,
         dataset_id=dataset_id or f"logo_rl/{path.name}-v0",
-        env_id=spec["id"],
+        # The env's own name (a Gymnasium id where one was given): what a config of
+        # logo-rl's envs compares with the dataset's env.
+        env_id=spec["id"].removeprefix("python:"),
         action_low=spec["action_low"], action_high=spec["action_high"],
     )
     return path

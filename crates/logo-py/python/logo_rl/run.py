@@ -10,6 +10,11 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
+
 from . import _logo_rl
 from .custom import demos_path, prepare
 from .policy import Policy
@@ -124,7 +129,13 @@ def train(
                 "resume continues a run with its own config: drop config, demos and overrides"
             )
         if env is not None:
-            python_env = _python_env(env, _saved_env_id(Path(resume)))
+            saved = _saved_env_id(Path(resume))
+            if saved is None:
+                raise ValueError(
+                    f"{resume} is not a run on a Python env: resume it without env= "
+                    "(its env is one of logo-rl's, named in its config.toml)"
+                )
+            python_env = _python_env(env, saved)
         path = _logo_rl.train(
             say=say,
             resume=os.fspath(resume),
@@ -138,7 +149,7 @@ def train(
         return Run(path)
     if config is None:
         raise ValueError("train needs a config (a TOML file or a dict) or resume=")
-    table = dict(overrides)
+    table = _absolute_paths(dict(overrides))
     if iterations is not None:
         table["iterations"] = iterations
     path_arg = None
@@ -148,7 +159,7 @@ def train(
         path_arg = os.fspath(config)
     if env is not None:
         python_env = _python_env(env, None)
-        spec = json.loads(python_env[1])
+        spec = python_env[1]
         table["env"] = table["eval_env"] = spec["id"]
         # A Python env may raise at any step: every whole iteration keeps its checkpoint.
         table.setdefault("checkpoint_every", 1)
@@ -161,7 +172,7 @@ def train(
     path = _logo_rl.train(
         say=say,
         config=path_arg,
-        table_json=json.dumps(table),
+        table_json=json.dumps(table, default=_plain),
         base=os.getcwd(),
         out=None if out is None else os.fspath(out),
         engine=engine,
@@ -173,16 +184,40 @@ def train(
     return Run(path)
 
 
-def _python_env(env, saved_id: str | None) -> tuple[Callable, str]:
+def _python_env(env, saved_id: str | None) -> tuple[Callable, dict[str, Any]]:
     make, spec = prepare(env)
     if saved_id is not None:
         spec["id"] = saved_id
-    return make, json.dumps(spec)
+    return make, spec
+
+
+def _plain(value: Any) -> Any:
+    """What json.dumps cannot write by itself: paths, NumPy scalars and arrays."""
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if isinstance(value, (np.generic, np.ndarray)):
+        return value.tolist()
+    raise TypeError(f"config value {value!r} of type {type(value).__name__}: not a TOML value")
+
+
+PATH_KEYS = {("init_policy",), ("guidance", "demos"), ("guidance", "behaviour_policy")}
+
+
+def _absolute_paths(table: dict) -> dict:
+    """Paths given as overrides are the caller's, from the working directory (a config
+    file's own paths are from its folder)."""
+    for keys in PATH_KEYS:
+        holder = table
+        for key in keys[:-1]:
+            holder = holder.get(key) if isinstance(holder.get(key), dict) else None
+            if holder is None:
+                break
+        if holder is not None and isinstance(holder.get(keys[-1]), (str, os.PathLike)):
+            holder[keys[-1]] = os.path.abspath(holder[keys[-1]])
+    return table
 
 
 def _saved_env_id(run: Path) -> str | None:
-    import tomllib
-
     try:
         saved = tomllib.loads((run / "config.toml").read_text())
     except (OSError, tomllib.TOMLDecodeError):
@@ -194,8 +229,6 @@ def _saved_env_id(run: Path) -> str | None:
 
 def _default_out(config, table: Mapping[str, Any]) -> Path:
     """`logo train`'s default folder, runs/<config name>-seed<seed>."""
-    import tomllib
-
     if isinstance(config, Mapping):
         name, seed = "run", table.get("seed", config.get("seed", 0))
     else:

@@ -10,7 +10,7 @@ from gymnasium import spaces
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ._logo_rl import RustEnv, RustVecEnv
+from ._logo_rl import RustVecEnv
 
 
 class LogoVectorEnv(VectorEnv):
@@ -34,7 +34,7 @@ class LogoVectorEnv(VectorEnv):
     ):
         threads = min(num_envs, os.cpu_count() or 1) if threads is None else threads
         self._venv = RustVecEnv(env_id, num_envs, threads, 0, max_episode_steps)
-        one = RustEnv(env_id, max_episode_steps)
+        one = self._venv
         self.env_id = one.id
         self.num_envs = num_envs
         self.threads = threads
@@ -57,12 +57,20 @@ class LogoVectorEnv(VectorEnv):
         obs, reward, terminated, truncated, dense, x, final_obs = self._venv.step(
             actions.reshape(self.num_envs, -1)
         )
-        info: dict[str, Any] = {"dense_reward": dense, "x_position": x}
+        every = np.ones(self.num_envs, dtype=bool)
+        info: dict[str, Any] = {
+            "dense_reward": dense, "_dense_reward": every, "x_position": x, "_x_position": every,
+        }
         ended = terminated | truncated
         if ended.any():
+            # As Gymnasium's same-step mode: the ended episodes' last observation and the
+            # info of their last step, each with its mask.
             finals = np.full(self.num_envs, None, dtype=object)
             for i in np.flatnonzero(ended):
                 finals[i] = final_obs[i]
             info["final_obs"], info["_final_obs"] = finals, ended
-            info["final_info"], info["_final_info"] = {}, ended
+            info["final_info"] = {
+                "dense_reward": dense, "_dense_reward": ended, "x_position": x, "_x_position": ended,
+            }
+            info["_final_info"] = ended
         return obs, reward, terminated, truncated, info
