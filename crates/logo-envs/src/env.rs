@@ -97,6 +97,11 @@ pub enum EnvError {
 ///
 /// Observations are written into caller-owned buffers of length `spec().obs_dim`, so the
 /// vectorised env and the rollout code step without allocating.
+///
+/// What the trainer needs of an env is `spec`, `reset` and `step`: that is all an env
+/// without a joint state of logo-rl's (a Python env) implements. The rest has defaults
+/// for such an env, and the MuJoCo envs ([`crate::MujocoEnv`], [`crate::SparseReward`])
+/// override every one: replaying recorded states and exact resumes need them.
 pub trait Env: Send {
     fn spec(&self) -> &EnvSpec;
 
@@ -108,25 +113,42 @@ pub trait Env: Send {
     fn step(&mut self, action: &[f64], obs: &mut [f64]) -> Result<Step, EnvError>;
 
     /// Overwrites the joint state of the current episode (Gymnasium's `set_state`), then
-    /// writes the resulting observation. Used to replay recorded initial states.
-    fn set_state(&mut self, qpos: &[f64], qvel: &[f64], obs: &mut [f64]) -> Result<(), EnvError>;
+    /// writes the resulting observation. Used to replay recorded initial states; an error
+    /// for an env without a joint state.
+    fn set_state(&mut self, qpos: &[f64], qvel: &[f64], obs: &mut [f64]) -> Result<(), EnvError> {
+        let _ = (qpos, qvel, obs);
+        Err(EnvError::InvalidOption(format!(
+            "{} has no joint state to set (recorded initial states need a MuJoCo env of logo-rl's)",
+            self.spec().id
+        )))
+    }
 
-    /// The joint state now: `(qpos, qvel)` (Gymnasium's `state_vector`, split).
-    fn state(&self) -> (&[f64], &[f64]);
+    /// The joint state now: `(qpos, qvel)` (Gymnasium's `state_vector`, split); empty for
+    /// an env without one.
+    fn state(&self) -> (&[f64], &[f64]) {
+        (&[], &[])
+    }
 
-    /// `qpos[0]` now: the forward position of the locomotion tasks.
+    /// `qpos[0]` now: the forward position of the locomotion tasks (0 without a state).
     fn x_position(&self) -> f64 {
-        self.state().0[0]
+        self.state().0.first().copied().unwrap_or(0.0)
     }
 
     /// Where this env stands right after a reset, with its reset-noise generator's position:
     /// what a resumed training run needs to continue bit-identically. An error in the
-    /// middle of an episode (mid-episode MuJoCo state also holds solver warm-starts).
-    fn reset_point(&self) -> Result<ResetPoint, EnvError>;
+    /// middle of an episode (mid-episode MuJoCo state also holds solver warm-starts). An
+    /// env whose state cannot be taken gives [`ResetPoint::unrestorable`].
+    fn reset_point(&self) -> Result<ResetPoint, EnvError> {
+        Ok(ResetPoint::unrestorable())
+    }
 
     /// Puts the env at `point`, exactly as if a reset had just produced it, and writes the
-    /// observation.
-    fn restore_reset_point(&mut self, point: &ResetPoint, obs: &mut [f64]) -> Result<(), EnvError>;
+    /// observation; an env whose state cannot be taken starts a new episode instead.
+    fn restore_reset_point(&mut self, point: &ResetPoint, obs: &mut [f64]) -> Result<(), EnvError> {
+        let _ = point;
+        self.reset(None, obs);
+        Ok(())
+    }
 }
 
 /// See [`Env::reset_point`].

@@ -137,27 +137,12 @@ impl Env for PyEnv {
         result.map_err(|e| self.raised.keep(&self.spec.id, "step", e))
     }
 
-    fn set_state(&mut self, _: &[f64], _: &[f64], _: &mut [f64]) -> Result<(), EnvError> {
-        Err(EnvError::External {
-            env: self.spec.id.clone(),
-            message: "a Python env's joint state cannot be set (eval_initial_states = \"demos\" \
-                      needs a MuJoCo env of logo-rl's)"
-                .into(),
-        })
-    }
-
-    fn state(&self) -> (&[f64], &[f64]) {
-        (&[], &[])
-    }
-
+    /// The env's `info["x_position"]` (0 where it gives none).
     fn x_position(&self) -> f64 {
         self.x
     }
 
-    fn reset_point(&self) -> Result<ResetPoint, EnvError> {
-        Ok(ResetPoint::unrestorable())
-    }
-
+    /// A new episode (a Python env's state cannot be taken), reporting a reset that raised.
     fn restore_reset_point(&mut self, _: &ResetPoint, obs: &mut [f64]) -> Result<(), EnvError> {
         self.reset(None, obs);
         match self.failed.take() {
