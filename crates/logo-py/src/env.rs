@@ -14,14 +14,24 @@ pub fn env_ids() -> Vec<String> {
     logo_envs::all_env_ids()
 }
 
-/// A `python:` id names an env a training run registered; its copies are the trainer's.
-pub(crate) fn refuse_python_id(id: &str) -> PyResult<()> {
+/// The factory of a Rust env for Python. A `python:` id names an env a training run
+/// registered: its copies are the trainer's, and from Python it is used as itself.
+pub(crate) fn factory(id: &str, max_episode_steps: usize) -> PyResult<EnvFactory> {
     if id.starts_with(logo_envs::EXTERNAL_PREFIX) {
         return Err(PyValueError::new_err(format!(
             "{id}: a Python env is used as itself from Python, not through logo_rl's Rust envs"
         )));
     }
-    Ok(())
+    if max_episode_steps == 0 {
+        return Err(PyValueError::new_err(
+            "max_episode_steps must be at least 1",
+        ));
+    }
+    let options = EnvOptions {
+        max_episode_steps,
+        ..EnvOptions::default()
+    };
+    EnvFactory::new(id, &options).map_err(env_error)
 }
 
 /// A Rust env: `f64` observations and actions, the project's own seeded reset stream.
@@ -44,17 +54,7 @@ impl RustEnv {
     #[new]
     #[pyo3(signature = (id, max_episode_steps = 1000))]
     fn new(id: &str, max_episode_steps: usize) -> PyResult<Self> {
-        refuse_python_id(id)?;
-        if max_episode_steps == 0 {
-            return Err(PyValueError::new_err(
-                "max_episode_steps must be at least 1",
-            ));
-        }
-        let options = EnvOptions {
-            max_episode_steps,
-            ..EnvOptions::default()
-        };
-        let factory = EnvFactory::new(id, &options).map_err(env_error)?;
+        let factory = factory(id, max_episode_steps)?;
         let env = factory.build().map_err(env_error)?;
         let obs = vec![0.0; factory.spec().obs_dim];
         Ok(Self {

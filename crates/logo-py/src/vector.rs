@@ -1,14 +1,14 @@
 //! N copies of one Rust env for Python (`logo_rl.vector.LogoVectorEnv`), stepped on Rust
 //! threads with the GIL released: logo-rl's own `VecEnv`, as the trainer's sampler uses it.
 
-use logo_envs::{EnvFactory, EnvOptions, VecEnv};
+use logo_envs::VecEnv;
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::env::refuse_python_id;
+use crate::env::factory;
 use crate::errors::env_error;
 
 /// Not shared between Python threads; each step runs on the env's own worker threads.
@@ -44,17 +44,7 @@ impl RustVecEnv {
         seed: u64,
         max_episode_steps: usize,
     ) -> PyResult<Self> {
-        refuse_python_id(id)?;
-        if max_episode_steps == 0 {
-            return Err(PyValueError::new_err(
-                "max_episode_steps must be at least 1",
-            ));
-        }
-        let options = EnvOptions {
-            max_episode_steps,
-            ..EnvOptions::default()
-        };
-        let factory = EnvFactory::new(id, &options).map_err(env_error)?;
+        let factory = factory(id, max_episode_steps)?;
         let venv = VecEnv::new(&factory, num_envs, threads, seed).map_err(env_error)?;
         Ok(Self { venv })
     }

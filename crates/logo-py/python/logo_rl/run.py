@@ -122,6 +122,7 @@ def train(
         say = progress
     else:
         raise TypeError(f"progress={progress!r}: expected True, False or a callable")
+    common = dict(say=say, engine=engine, backend=backend, dtype=dtype, tensorboard=tensorboard)
     python_env = None
     if resume is not None:
         if config is not None or overrides or demos is not None:
@@ -137,14 +138,7 @@ def train(
                 )
             python_env = _python_env(env, saved)
         path = _logo_rl.train(
-            say=say,
-            resume=os.fspath(resume),
-            iterations=iterations,
-            engine=engine,
-            backend=backend,
-            dtype=dtype,
-            tensorboard=tensorboard,
-            env=python_env,
+            resume=os.fspath(resume), iterations=iterations, env=python_env, **common
         )
         return Run(path)
     if config is None:
@@ -161,8 +155,12 @@ def train(
         python_env = _python_env(env, None)
         spec = python_env[1]
         table["env"] = table["eval_env"] = spec["id"]
-        # A Python env may raise at any step: every whole iteration keeps its checkpoint.
-        table.setdefault("checkpoint_every", 1)
+        # A Python env may raise at any step: every whole iteration keeps its checkpoint,
+        # unless the config or the call says otherwise.
+        if "checkpoint_every" not in table and (
+            path_arg is None or "checkpoint_every" not in tomllib.loads(Path(path_arg).read_text())
+        ):
+            table["checkpoint_every"] = 1
         if demos is not None:
             run_dir = Path(out) if out is not None else _default_out(config, table)
             where = demos_path(demos, run_dir, spec["obs_dim"], spec["act_dim"])
@@ -170,16 +168,12 @@ def train(
     elif demos is not None:
         raise ValueError("demos= goes with env= (a config's own env has its demos in the config)")
     path = _logo_rl.train(
-        say=say,
         config=path_arg,
         table_json=json.dumps(table, default=_plain),
         base=os.getcwd(),
         out=None if out is None else os.fspath(out),
-        engine=engine,
-        backend=backend,
-        dtype=dtype,
-        tensorboard=tensorboard,
         env=python_env,
+        **common,
     )
     return Run(path)
 
