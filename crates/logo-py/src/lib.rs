@@ -22,9 +22,11 @@ fn _logo_rl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<vector::RustVecEnv>()?;
     m.add_function(wrap_pyfunction!(env::env_ids, m)?)?;
     m.add_function(wrap_pyfunction!(train::train, m)?)?;
+    m.add_function(wrap_pyfunction!(train::default_run_dir, m)?)?;
     m.add_function(wrap_pyfunction!(minari::write_dataset, m)?)?;
     m.add("LogoError", m.py().get_type::<LogoError>())?;
     m.add("MUJOCO_VERSION", "3.17.0")?;
+    m.add("EXTERNAL_PREFIX", logo_envs::EXTERNAL_PREFIX)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -124,9 +124,7 @@ pub fn train(
         None => {
             let name = config.clone();
             let config = self::config(config, table_json, base)?;
-            let out = out.unwrap_or_else(|| {
-                default_out(name.as_deref().unwrap_or("run".as_ref()), config.seed)
-            });
+            let out = out.unwrap_or_else(|| default_run_dir(name, config.seed));
             Start::New(Box::new(config), out)
         }
     };
@@ -144,6 +142,14 @@ pub fn train(
         (Ok(dir), None) => Ok(dir),
         (Err(e), None) => Err(logo_error(&e)),
     }
+}
+
+/// `logo train`'s default run folder, `runs/<config name>-seed<seed>` (`run` for a dict),
+/// for Python too (the list-of-trajectories demos are written into it before training).
+#[pyfunction]
+#[pyo3(signature = (config, seed))]
+pub fn default_run_dir(config: Option<PathBuf>, seed: u64) -> PathBuf {
+    default_out(config.as_deref().unwrap_or("run".as_ref()), seed)
 }
 
 /// A Python env's registration, dropped when the call ends whichever way it ends.

@@ -12,7 +12,7 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium.wrappers import TimeLimit
 
-PREFIX = "python:"  # logo_envs::EXTERNAL_PREFIX
+from ._logo_rl import EXTERNAL_PREFIX as PREFIX  # the ids of envs the caller brings
 
 
 class _Adapter:

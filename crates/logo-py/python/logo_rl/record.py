@@ -9,7 +9,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ._logo_rl import write_dataset
-from .custom import prepare
+from .custom import PREFIX, prepare
 from .policy import Policy
 
 
@@ -69,7 +69,7 @@ def record(
         dataset_id=dataset_id or f"logo_rl/{path.name}-v0",
         # The env's own name (a Gymnasium id where one was given): what a config of
         # logo-rl's envs compares with the dataset's env.
-        env_id=spec["id"].removeprefix("python:"),
+        env_id=spec["id"].removeprefix(PREFIX),
         action_low=spec["action_low"], action_high=spec["action_high"],
     )
     return path

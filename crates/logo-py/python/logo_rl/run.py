@@ -16,7 +16,7 @@ except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
 from . import _logo_rl
-from .custom import demos_path, prepare
+from .custom import PREFIX, demos_path, prepare
 from .policy import Policy
 
 
@@ -218,17 +218,17 @@ def _saved_env_id(run: Path) -> str | None:
         return None  # the resume itself says what is wrong with the folder
     env = saved.get("env")
     env = env.get("id") if isinstance(env, dict) else env
-    return env if isinstance(env, str) and env.startswith("python:") else None
+    return env if isinstance(env, str) and env.startswith(PREFIX) else None
 
 
 def _default_out(config, table: Mapping[str, Any]) -> Path:
     """`logo train`'s default folder, runs/<config name>-seed<seed>."""
     if isinstance(config, Mapping):
-        name, seed = "run", table.get("seed", config.get("seed", 0))
+        path, seed = None, table.get("seed", config.get("seed", 0))
     else:
-        name = Path(config).stem
+        path = os.fspath(config)
         seed = table.get("seed", tomllib.loads(Path(config).read_text()).get("seed", 0))
-    return Path("runs") / f"{name}-seed{seed}"
+    return Path(_logo_rl.default_run_dir(path, int(seed)))
 
 
 def _lay_over(under: dict, top: Mapping) -> dict:
