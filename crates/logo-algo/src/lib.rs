@@ -1,4 +1,4 @@
-//! LOGO and its variants, readable top to bottom: `trainer/mod.rs` is the loop of one
+//! LOGO and its variants, readable top to bottom: `trainer/iteration.rs` is one
 //! iteration, each step a function of its own file, each variant a configuration.
 //!
 //! | file | the paper's name |
@@ -12,7 +12,7 @@
 //! | `discriminator.rs` | the discriminator D and its training |
 //! | `episode.rs` | one episode of a fixed policy; the evaluation |
 //! | `streams.rs` | the table of random streams |
-//! | `trainer/` | the iteration (`mod.rs`), building a run (`build.rs`), checkpoints and resume (`checkpoint.rs`) |
+//! | `trainer/` | the iteration (`iteration.rs`) over the learner (`learner.rs`), its resources (`resources.rs`) and its recorder (`recorder.rs`); the learner's state, which a checkpoint is (`learner_state.rs`) |
 //! | `metrics.rs`, `run_dir.rs`, `tensorboard.rs` | `metrics.csv`, TensorBoard's event file and the run's folder |
 //! | `config.rs`, `validate.rs` | the TOML config, and the checks its tables share |
 
@@ -37,4 +37,4 @@ pub mod validate;
 
 pub use config::{ConfigError, EvalInitialStates, TrainConfig};
 pub use metrics::IterationMetrics;
-pub use trainer::{EngineSpan, Schedule, Trainer, engine_history};
+pub use trainer::{EngineSpan, LearnerState, Schedule, Trainer, engine_history};

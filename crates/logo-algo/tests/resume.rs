@@ -262,3 +262,86 @@ fn a_new_run_in_an_old_runs_folder_is_refused_and_stale_temporaries_go() {
     Trainer::resume(Kernels, &dir, None).unwrap();
     assert!(!dir.join("checkpoint.tmp.999999").exists());
 }
+
+/// The kept checkpoints under `docs/results/` that hold a resume state.
+fn kept_checkpoints() -> Vec<std::path::PathBuf> {
+    let mut found = Vec::new();
+    let mut folders = vec![logo_testkit::workspace().join("docs/results")];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.file_name() == Some("checkpoint.safetensors".as_ref()) {
+                let meta = logo_nn::Checkpoint::load(&path).unwrap().meta;
+                if !meta.extra["resume"].is_null() {
+                    found.push(path);
+                }
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
+/// Every kept checkpoint read as a learner's state and written again holds the same
+/// networks, bit for bit, and the same resume record and engine history: the checkpoint
+/// is that state.
+#[test]
+fn kept_checkpoints_are_learner_states() {
+    use logo_algo::LearnerState;
+    let kept = kept_checkpoints();
+    assert!(
+        kept.len() >= 20,
+        "only {} kept checkpoints found",
+        kept.len()
+    );
+    let dir = scratch("kept-round-trip");
+    for path in kept {
+        let before = logo_nn::Checkpoint::load(&path).unwrap();
+        let (config, state) =
+            LearnerState::load(&path, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let again = dir.join("checkpoint.safetensors");
+        let engine = before.meta.extra["engine"]
+            .as_str()
+            .unwrap_or("")
+            .to_string();
+        state
+            .save(&again, &config, &before.meta.env_id, &engine)
+            .unwrap();
+        let after = logo_nn::Checkpoint::load(&again).unwrap();
+        let shown = path.display();
+        for key in ["resume", "engines", "samples"] {
+            if !before.meta.extra[key].is_null() {
+                assert_eq!(
+                    before.meta.extra[key], after.meta.extra[key],
+                    "{shown}: {key}"
+                );
+            }
+        }
+        assert_eq!(before.meta.networks, after.meta.networks, "{shown}");
+        assert_eq!(before.meta.iteration, after.meta.iteration, "{shown}");
+        let names: Vec<&str> = before.tensor_names().collect();
+        assert_eq!(names, after.tensor_names().collect::<Vec<_>>(), "{shown}");
+        for name in names {
+            assert_eq!(before.tensor(name), after.tensor(name), "{shown}: {name}");
+        }
+    }
+}
+
+/// A kept run of the paper-scale study goes on by one iteration from its checkpoint.
+#[test]
+fn a_kept_run_resumes() {
+    let kept = logo_testkit::workspace().join("docs/results/paper-scale/hopper/hopper/seed0");
+    let dir = scratch("kept-resume");
+    for file in ["checkpoint.safetensors", "metrics.csv", "config.toml"] {
+        std::fs::copy(kept.join(file), dir.join(file)).unwrap();
+    }
+    let done = metrics(&dir).len() - 1;
+    let mut trainer = Trainer::resume(Kernels, &dir, Some(done + 1)).unwrap();
+    assert_eq!(trainer.iteration(), done);
+    let row = trainer.step().unwrap();
+    assert_eq!(row.iteration, done);
+    assert!(trainer.done());
+    assert_eq!(metrics(&dir).len(), done + 2);
+}

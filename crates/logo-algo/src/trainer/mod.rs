@@ -1,77 +1,148 @@
-//! The training loop: [`Trainer::step`] is one iteration of LOGO (Algorithm 1), written
-//! once for every engine and every configured variant:
+//! Training a run: [`Trainer::step`] is one iteration of LOGO (Algorithm 1), written
+//! once for every engine and every configured variant, in `iteration.rs`.
 //!
-//! 1. collect whole episodes with π_k;
-//! 2. advantages of the env reward, with the env critic as it stands;
-//! 3. δ_k from the batch's mean sparse return; while δ_k is above its floor, the guidance
-//!    reward r_C (from last iteration's discriminator, or log π_b − log π_k) and its
-//!    advantages with the guidance critic;
-//! 4. improvement step (`[improvement]`'s kind, KL ≈ δ = `max_kl`) → π_{k+½};
-//! 5. guidance step (`[guidance.update]`'s kind, KL ≈ δ_k, ratio against π_k) → π_{k+1};
-//! 6. one discriminator update;
-//! 7. both critics fitted to this batch's returns (for iteration k+1's advantages);
-//! 8. evaluation of π_{k+1} on the dense env with the mean action; metrics row, checkpoint.
+//! A trainer is three parts and the config:
+//! - the **learner** (`learner.rs`): every network and optimiser state, δ_k, the counts,
+//!   on the engine. Taken off the engine it is a [`LearnerState`] (`learner_state.rs`),
+//!   and a checkpoint is that value: a new run starts from [`LearnerState::initial`], a
+//!   resumed one from [`LearnerState::load`], and both are made into a trainer the same
+//!   way ([`Trainer::new`], [`Trainer::resume`]);
+//! - the **resources** (`resources.rs`): the engine, the worker threads, the env copies
+//!   and their sampler, the evaluation env;
+//! - the **recorder** (`recorder.rs`): the run folder, metrics.csv, TensorBoard, and when
+//!   checkpoints are due.
 //!
-//! Without `[guidance]` it is the improvement step alone (TRPO, PPO, ...). Which of steps
-//! 4-8 run beside which is decided in one place, [`Trainer::steps_and_fits`], by the
-//! run's [`Schedule`]; the arithmetic is the same under either schedule.
-//! Building a trainer is in `build.rs`, checkpoints and `--resume` in `checkpoint.rs`,
-//! steps 2-7 in `steps.rs`, and the parts a trainer holds in `state.rs`.
+//! Which steps of an iteration run beside which is the [`Schedule`]'s business
+//! (`schedule.rs`); the arithmetic is the same under either schedule.
 
-mod build;
-mod checkpoint;
+mod iteration;
+mod learner;
+mod learner_state;
 mod recorder;
+mod resources;
 mod schedule;
-mod state;
-mod steps;
 
+use std::path::Path;
 use std::sync::Arc;
 
-use burn::tensor::Tensor;
-use logo_nn::flops::in_phase;
+use logo_data::Demonstrations;
+use logo_envs::EnvFactory;
 use logo_nn::{Engine, Policy};
 
-use crate::episode::Evaluation;
+use crate::config::TrainConfig;
 use crate::metrics::IterationMetrics;
-use crate::policy_update::StepBatch;
+use crate::run_dir::RunDir;
 pub use crate::run_dir::TrainError;
-use crate::sampler::Batch;
-pub use checkpoint::engine_history;
+use learner::{Learner, check_dims};
+pub use learner_state::{EngineSpan, LearnerState, engine_history};
+use recorder::Recorder;
+use resources::{Collected, Resources};
 pub use schedule::Schedule;
-pub use state::{EngineSpan, Trainer};
-use steps::{
-    Advantages, GuidanceStream, Later, StepInputs, Stopwatch, advantages, check_critic_fits,
-    policy_steps,
-};
+
+pub struct Trainer<E: Engine> {
+    pub config: TrainConfig,
+    learner: Learner<E>,
+    resources: Resources<E>,
+    recorder: Recorder,
+    /// Batch k+1, where the pipelined schedule collected it during iteration k.
+    next_batch: Option<Collected>,
+}
 
 impl<E: Engine> Trainer<E> {
+    /// A new run on `engine` writing into `out_dir` (metrics.csv is started afresh).
+    pub fn new(engine: E, config: TrainConfig, out_dir: &Path) -> Result<Self, TrainError> {
+        config.validate().map_err(|e| format!("config: {e}"))?;
+        let run = RunDir::create(out_dir, &config)?;
+        let factory = config.env.factory()?;
+        let spec = factory.spec();
+        let state = LearnerState::initial(&config, spec.obs_dim, spec.act_dim)?;
+        Self::assemble(engine, config, run, &factory, state)
+    }
+
+    /// Continues the run in `out_dir` from its checkpoint: load the state, check it, go
+    /// on. Rows of metrics.csv after the checkpoint (a killed run's last iterations) are
+    /// dropped and redone; the run then ends with the same checkpoint as one never
+    /// interrupted. `iterations` extends or shortens the run.
+    pub fn resume(
+        engine: E,
+        out_dir: &Path,
+        iterations: Option<usize>,
+    ) -> Result<Self, TrainError> {
+        let run = RunDir::open(out_dir)?;
+        run.remove_stale_temporaries()?;
+        let (config, state) = LearnerState::load(&run.checkpoint_path(), iterations)?;
+        let (iteration, samples) = (state.iteration, state.samples);
+        let factory = config.env.factory()?;
+        let mut trainer = Self::assemble(engine, config, run, &factory, state)?;
+        // metrics.csv, the clock and the best policy as of the checkpoint.
+        let recorder = &mut trainer.recorder;
+        recorder
+            .resume(iteration, samples)
+            .map_err(|e| format!("{}: {e}", recorder.checkpoint_path().display()))?;
+        Ok(trainer)
+    }
+
+    /// The trainer of a run of `config` from `state`, on the envs `factory` makes.
+    fn assemble(
+        engine: E,
+        config: TrainConfig,
+        run: RunDir,
+        factory: &EnvFactory,
+        state: LearnerState,
+    ) -> Result<Self, TrainError> {
+        let spec = factory.spec();
+        let bad = |what: String| -> TrainError {
+            format!("{}: {what}", run.checkpoint_path().display()).into()
+        };
+        check_dims(&state.networks, spec.obs_dim, spec.act_dim).map_err(bad)?;
+        let demos = match config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
+            Some(path) => Some(
+                Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim)
+                    .map_err(|e| format!("guidance.demos: {e}"))?,
+            ),
+            None => None,
+        };
+        let learner = Learner::from_state(&engine, &config, &state, demos.as_ref())?;
+        let mut resources = Resources::build(engine, &config, factory, state.networks)?;
+        if let Some(sampler) = &state.sampler {
+            resources.collector.restore(sampler).map_err(bad)?;
+        }
+        Ok(Self {
+            config,
+            learner,
+            resources,
+            recorder: Recorder::new(run),
+            next_batch: None,
+        })
+    }
+
     pub fn iteration(&self) -> usize {
-        self.iteration
+        self.learner.iteration
     }
 
     pub fn done(&self) -> bool {
-        self.iteration >= self.config.iterations
+        self.learner.iteration >= self.config.iterations
     }
 
     pub fn engine(&self) -> &E {
-        &self.engine
+        &self.resources.engine
     }
 
     pub fn policy(&self) -> &Policy<E> {
-        &self.policy
+        &self.learner.policy
     }
 
-    pub fn run_dir(&self) -> &std::path::Path {
+    pub fn run_dir(&self) -> &Path {
         self.recorder.path()
     }
 
     pub fn schedule(&self) -> Schedule {
-        self.schedule
+        self.resources.schedule
     }
 
     /// Lays the iterations over the threads by `schedule` (the numbers do not change).
     pub fn set_schedule(&mut self, schedule: Schedule) {
-        self.schedule = schedule;
+        self.resources.schedule = schedule;
     }
 
     /// From now on, every row of metrics.csv also goes to a TensorBoard event file in the
@@ -85,250 +156,33 @@ impl<E: Engine> Trainer<E> {
     /// Runs one iteration and appends its row to `metrics.csv`; an error names the
     /// iteration.
     pub fn step(&mut self) -> Result<IterationMetrics, TrainError> {
-        let k = self.iteration;
-        let pool = Arc::clone(&self.pool);
+        let k = self.learner.iteration;
+        let pool = Arc::clone(&self.resources.pool);
         pool.install(|| self.iterate())
             .map_err(|e| format!("iteration {k}: {e}").into())
     }
 
-    /// One iteration, in Algorithm 1's order.
-    fn iterate(&mut self) -> Result<IterationMetrics, TrainError> {
-        let k = self.iteration;
-        // 1. Collect (s, a, r) with π_k (the pipelined schedule did so during k − 1).
-        let collected = match self.next_batch.take() {
-            Some(collected) => collected,
-            None => {
-                let acting = self.policy.acting(&self.engine);
-                self.collector
-                    .collect(&acting, self.config.samples_per_iter)?
-            }
-        };
-        let mut clock = Stopwatch::start();
-        let batch = &collected.batch;
-        let (obs, actions, logp_k) = in_phase("sampling", || self.upload(batch));
-        let t_upload = clock.lap();
-
-        // 2. Advantages of the env reward, with the env critic as it stands.
-        let (engine, config) = (&self.engine, &self.config);
-        let env = in_phase("advantages", || {
-            advantages(
-                engine,
-                config,
-                &self.critics.env,
-                batch,
-                &obs,
-                &batch.rewards,
-            )
-        });
-        let data = StepBatch {
-            advantages: engine.upload(&env.normalised, [batch.len()]),
-            obs,
-            actions,
-            logp_old: logp_k,
-            rows: batch.len(),
-        };
-
-        // 3. δ_k, then the guidance reward and its advantages while δ_k is above its floor.
-        let guidance = in_phase("advantages", || self.guidance_stream(k, batch, &data));
-        let t_advantages = clock.lap();
-
-        self.iteration += 1;
-        self.samples += batch.len();
-        // 4-8.
-        let rewardless = batch.rewards.iter().all(|&r| r == 0.0);
-        let inputs = StepInputs {
-            k,
-            data: &data,
-            stream: guidance.as_ref(),
-            skip_improvement: self.config.skip_improvement_without_reward && rewardless,
-        };
-        let later = self
-            .steps_and_fits(inputs, &env)
-            .map_err(|e| self.stopped(e))?;
-        let row = IterationMetrics {
-            t_sampling: collected.seconds + t_upload,
-            t_advantages,
-            ..IterationMetrics::default()
-        };
-        self.record(k, row, batch, guidance.as_ref(), later)
-    }
-
-    /// The batch's observations, actions and log π_k on the engine: uploaded once.
-    fn upload(&self, batch: &Batch) -> (E::Rows, Tensor<E::B, 2>, Tensor<E::B, 1>) {
-        let engine = &self.engine;
-        let obs = engine.rows(&batch.obs, batch.obs_dim);
-        let actions = engine.upload(&batch.actions, [batch.len(), batch.act_dim]);
-        let logp_k = self.policy.log_prob(engine, &obs, &actions);
-        (obs, actions, logp_k)
-    }
-
-    /// Step 3: δ_k from the batch's mean sparse return; then, while δ_k is above its
-    /// floor, r_C and its advantages with the guidance critic.
-    fn guidance_stream(
-        &mut self,
-        k: usize,
-        batch: &Batch,
-        data: &StepBatch<E>,
-    ) -> Option<GuidanceStream<E>> {
-        let g = self.guidance.as_mut()?;
-        g.schedule.update(k, batch.mean_return());
-        if !g.schedule.guidance_on() {
-            return None;
-        }
-        let reward = g.rewards(&self.engine, batch, data);
-        let critic = self
-            .critics
-            .guidance
-            .as_ref()
-            .expect("guidance has a critic");
-        let advantages = advantages(
-            &self.engine,
-            &self.config,
-            critic,
-            batch,
-            &data.obs,
-            &reward.rewards,
-        );
-        Some(GuidanceStream {
-            advantages,
-            discriminator_inputs: reward.discriminator_inputs,
-            mean_reward: reward.rewards.iter().sum::<f64>() / reward.rewards.len().max(1) as f64,
-        })
-    }
-
-    /// Steps 4-8 of iteration `k`, laid over the threads by the schedule: the one place
-    /// that says what runs beside what.
-    fn steps_and_fits(
-        &mut self,
-        inputs: StepInputs<'_, E>,
-        env: &Advantages,
-    ) -> Result<Later, TrainError> {
-        let (k, data) = (inputs.k, inputs.data);
-        let collect_next = !self.done();
-        let evaluate_now = k.is_multiple_of(self.config.eval_every) || self.done();
-        let Self {
+    /// The run's state after its latest iteration: what a checkpoint holds.
+    pub fn state(&self) -> Result<LearnerState, TrainError> {
+        let Resources {
             engine,
-            config,
-            policy,
-            improvement,
-            guidance,
-            critics,
             collector,
-            evaluator,
-            schedule,
+            shapes,
             ..
-        } = self;
-        let (engine, config) = (&*engine, &*config);
-        let guidance_returns = inputs.stream.map(|s| s.advantages.returns.as_slice());
-        let samples = config.samples_per_iter;
-        let (steps, fits, (evaluation, t_evaluation), next) = schedule.run(
-            policy,
-            |policy| policy.acting(engine),
-            // 4-6.
-            |policy| {
-                policy_steps(
-                    engine,
-                    config,
-                    policy,
-                    improvement,
-                    guidance.as_mut(),
-                    &inputs,
-                )
-            },
-            // 7.
-            || {
-                critics.fit(
-                    engine,
-                    (config.seed, k),
-                    &data.obs,
-                    &env.returns,
-                    guidance_returns,
-                )
-            },
-            // 8, and batch k + 1 with π_{k+1}.
-            |acting| evaluator.timed(acting, k, evaluate_now),
-            |acting| collector.collect_if(collect_next, acting, samples),
-        )?;
-        Ok(Later {
-            steps,
-            fits,
-            evaluation,
-            t_evaluation,
-            next,
-        })
-    }
-
-    /// Iteration `k`'s row of metrics.csv, and its checkpoint when one is due.
-    fn record(
-        &mut self,
-        k: usize,
-        timed: IterationMetrics,
-        batch: &Batch,
-        stream: Option<&GuidanceStream<E>>,
-        later: Later,
-    ) -> Result<IterationMetrics, TrainError> {
-        check_critic_fits(&later.fits, stream.is_some()).map_err(|e| self.stopped(e))?;
-        let row = self.metrics_row(k, timed, batch, stream, &later);
-        let every = self.config.checkpoint_every;
-        let due = self
-            .recorder
-            .append(&row, self.iteration, self.done(), every)?;
-        self.next_batch = later.next;
-        if let Some(eval_return) = due.best {
-            self.save_checkpoint(&self.recorder.best_path())?;
-            self.recorder.best_saved(eval_return);
-        }
-        if due.checkpoint {
-            self.save_checkpoint(&self.recorder.checkpoint_path())?;
-            self.recorder.checkpoint_saved(self.iteration);
-        }
-        Ok(row)
-    }
-
-    /// The metrics.csv row of iteration `k` (the timings of steps 1-3 are in `timed`).
-    fn metrics_row(
-        &self,
-        k: usize,
-        timed: IterationMetrics,
-        batch: &Batch,
-        stream: Option<&GuidanceStream<E>>,
-        later: &Later,
-    ) -> IterationMetrics {
-        let Later {
-            steps,
-            fits,
-            evaluation,
-            t_evaluation,
-            ..
-        } = later;
-        let eval = |of: fn(&Evaluation) -> f64| evaluation.as_ref().map_or(f64::NAN, of);
-        let mut row = IterationMetrics {
-            iteration: k,
-            samples: self.samples,
-            wall_s: self.recorder.wall_s(),
-            episodes: batch.episode_returns.len(),
-            train_sparse_return: batch.mean_return(),
-            train_dense_return: batch.mean_dense_return(),
-            eval_dense_return: eval(|e| e.dense_return),
-            eval_return: eval(|e| e.return_),
-            eval_moved: eval(|e| e.moved),
-            eval_action_rms: eval(|e| e.action_rms),
-            delta_k: self.guidance.as_ref().map_or(0.0, |g| g.schedule.delta),
-            guidance_reward: stream.map_or(f64::NAN, |s| s.mean_reward),
-            mean_log_std: self.policy.log_std.iter().sum::<f64>() / self.policy.act_dim() as f64,
-            critic_loss: fits.env_loss,
-            guidance_critic_loss: fits.guidance_loss,
-            disc_loss: steps.disc_loss.unwrap_or(f64::NAN),
-            t_critics: fits.seconds,
-            t_policy_step: steps.t_policy_step,
-            t_guidance: steps.t_guidance,
-            t_discriminator: steps.t_discriminator,
-            t_evaluation: *t_evaluation,
-            ..timed
+        } = &self.resources;
+        // Before the next batch, where the pipelined schedule has already collected it.
+        let sampler = match &self.next_batch {
+            Some(next) => next.before.clone(),
+            None => collector.state()?,
         };
-        row.improvement(&steps.improvement);
-        row.guidance(steps.guidance.as_ref());
-        row
+        Ok(self.learner.state(engine, shapes, sampler))
+    }
+
+    /// Writes the run's state after its latest iteration to `path` (atomically).
+    pub fn save_checkpoint(&self, path: &Path) -> Result<(), TrainError> {
+        let engine = self.resources.engine.describe();
+        let env_id = &self.resources.collector.venv.spec().id;
+        self.state()?.save(path, &self.config, env_id, &engine)
     }
 
     /// `e`, saying what the run kept (see [`Recorder::stopped`]).

@@ -1,49 +1,76 @@
-//! What a trainer holds between iterations: its parts and the types they are made of.
-//! A leaf of the trainer: building (`build.rs`), checkpoints (`checkpoint.rs`), the
-//! steps (`steps.rs`) and the iteration (`mod.rs`) all work on these.
+//! What a run works with but does not learn: the engine, the worker threads, the env
+//! copies and their sampler, the evaluation env. None of it is in a checkpoint except
+//! the sampler's random state ([`SamplerState`]), which the learner's state carries.
 
 use std::sync::Arc;
 use std::time::Instant;
 
-use logo_envs::{Env, ResetPoint, RngState, VecEnv};
+use logo_envs::{Env, EnvFactory, EnvSpec, RngState, VecEnv};
 use logo_nn::flops::in_phase;
-use logo_nn::{ActingPolicy, Cpu, Discriminator, Engine, GaussianPolicy, Policy, ValueNet};
+use logo_nn::{ActingPolicy, Engine};
 use rand::RngCore;
 use rand_chacha::ChaCha8Rng;
 
-use super::recorder::Recorder;
+use super::learner_state::{Networks, SamplerState};
 use super::schedule::Schedule;
 use crate::config::{EvalInitialStates, TrainConfig};
-use crate::critic::CriticSet;
 use crate::episode::{Evaluation, evaluate, evaluation_seed};
-use crate::guidance::Guidance;
-use crate::policy_update::UpdateState;
 use crate::run_dir::TrainError;
 use crate::sampler::{Batch, Sampler};
-use crate::streams::{self, Stream, generator};
+use crate::streams;
 
-pub struct Trainer<E: Engine> {
-    pub config: TrainConfig,
+pub(super) struct Resources<E: Engine> {
     pub(super) engine: E,
-    /// The run folder's writer: metrics.csv, TensorBoard, when checkpoints are due.
-    pub(super) recorder: Recorder,
     /// The worker threads of every phase (`config.threads`): one pool, so that the
     /// sampler, the GEMMs and the fits share the cores instead of oversubscribing them.
     pub(super) pool: Arc<rayon::ThreadPool>,
     pub(super) schedule: Schedule,
     pub(super) collector: Collector,
     pub(super) evaluator: Evaluator,
-    pub(super) policy: Policy<E>,
-    pub(super) improvement: UpdateState,
-    pub(super) critics: Critics<E>,
-    pub(super) guidance: Option<Guidance<E>>,
-    pub(super) modules: Modules,
-    /// Batch k+1, where the pipelined schedule collected it during iteration k.
-    pub(super) next_batch: Option<Collected>,
-    pub(super) iteration: usize,
-    pub(super) samples: usize,
-    /// Which engine ran which iterations, written into every checkpoint's metadata.
-    pub(super) engines: Vec<EngineSpan>,
+    /// The networks' burn modules, into which the learner's parameters are written when
+    /// its state is taken (a checkpoint).
+    pub(super) shapes: Networks,
+}
+
+impl<E: Engine> Resources<E> {
+    /// The resources of a run of `config` on the envs `factory` makes.
+    pub(super) fn build(
+        engine: E,
+        config: &TrainConfig,
+        factory: &EnvFactory,
+        shapes: Networks,
+    ) -> Result<Self, TrainError> {
+        let spec = factory.spec();
+        let evaluator = Evaluator::new(config, spec)?;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(config.threads)
+            .thread_name(|i| format!("logo-{i}"))
+            .build()
+            .map_err(|e| format!("cannot start {} worker threads: {e}", config.threads))?;
+        let collector = Collector {
+            // The copies run on the trainer's pool, as every other phase does.
+            venv: VecEnv::on_caller_pool(factory, config.num_envs, config.seed)?,
+            sampler: sampler(config, spec),
+            rng: streams::sampler(config.seed),
+        };
+        Ok(Self {
+            engine,
+            pool: Arc::new(pool),
+            schedule: Schedule::default(),
+            collector,
+            evaluator,
+            shapes,
+        })
+    }
+}
+
+/// Step 1's sampler: `clip_actions` clips what the env sees to the action space.
+fn sampler(config: &TrainConfig, spec: &EnvSpec) -> Sampler {
+    let sampler = Sampler::new(config.rollout, config.num_envs);
+    match config.clip_actions {
+        true => sampler.clipping(&spec.action_low, &spec.action_high),
+        false => sampler,
+    }
 }
 
 /// Step 1's state: the env copies, how batches are cut, and the sampler's generator.
@@ -51,14 +78,6 @@ pub(super) struct Collector {
     pub(super) venv: VecEnv,
     pub(super) sampler: Sampler,
     pub(super) rng: ChaCha8Rng,
-}
-
-/// The sampler's generator and every env copy's reset point between two batches: what a
-/// checkpoint records so that `--resume` collects the next batch again exactly.
-#[derive(Debug, Clone)]
-pub(super) struct SamplerState {
-    pub(super) rng: RngState,
-    pub(super) env_points: Vec<ResetPoint>,
 }
 
 /// A collected batch, its sampling time, and the sampler's state before it (None where
@@ -70,6 +89,8 @@ pub(super) struct Collected {
 }
 
 impl Collector {
+    /// The sampler's state before the next batch; None between batches that carry
+    /// episodes over.
     pub(super) fn state(&self) -> Result<Option<SamplerState>, TrainError> {
         if !self.sampler.at_episode_starts() {
             return Ok(None);
@@ -78,6 +99,15 @@ impl Collector {
             rng: RngState::of(&self.rng),
             env_points: self.venv.reset_points()?,
         }))
+    }
+
+    /// The sampler as `state` left it, so that the next batch is the one it would have
+    /// collected.
+    pub(super) fn restore(&mut self, state: &SamplerState) -> Result<(), String> {
+        self.rng = state.rng.to_rng()?;
+        self.venv
+            .restore_reset_points(&state.env_points)
+            .map_err(|e| e.to_string())
     }
 
     /// The next batch when `wanted` (not after the last iteration).
@@ -121,6 +151,29 @@ pub(super) struct Evaluator {
 }
 
 impl Evaluator {
+    /// The evaluation env of `config`, which must fit the training env's `spec`: the
+    /// trained task itself, whose steps report the dense reward beside its own (a sparse
+    /// wrapper leaves the dynamics and the dense reward as they are), unless `eval_env`
+    /// names another.
+    fn new(config: &TrainConfig, spec: &EnvSpec) -> Result<Self, TrainError> {
+        let env = config.evaluated_env().factory()?.build()?;
+        if env.spec().obs_dim != spec.obs_dim || env.spec().act_dim != spec.act_dim {
+            return Err(format!(
+                "eval_env {} does not have the dims of env {}",
+                env.spec().id,
+                spec.id
+            )
+            .into());
+        }
+        Ok(Self {
+            env,
+            seed: config.seed,
+            min_steps: config.eval_steps,
+            initial_states: config.eval_initial_states,
+            clip_actions: config.clip_actions,
+        })
+    }
+
     /// Step 8 when `due`, with its wall time (zero work and NaN metrics otherwise).
     pub(super) fn timed(
         &mut self,
@@ -155,70 +208,4 @@ impl Evaluator {
             evaluate(env, policy, reset_seed, min_steps, clip)
         })?)
     }
-}
-
-/// The critics of both reward streams.
-pub(super) struct Critics<E: Engine> {
-    pub(super) env: CriticSet<E>,
-    pub(super) guidance: Option<CriticSet<E>>,
-}
-
-/// Step 7's losses (NaN for a stream not fitted) and wall time.
-pub(super) struct CriticFits {
-    pub(super) env_loss: f64,
-    pub(super) guidance_loss: f64,
-    pub(super) seconds: f64,
-}
-
-impl<E: Engine> Critics<E> {
-    /// Fits each critic to its stream's returns on `obs`, each from its own stream of
-    /// minibatch shuffles. The two fits are independent, so they run side by side: each
-    /// alone scales imperfectly over the threads, together they keep the cores busy.
-    pub(super) fn fit(
-        &mut self,
-        engine: &E,
-        (seed, k): (u64, usize),
-        obs: &E::Rows,
-        env_returns: &[f64],
-        guidance_returns: Option<&[f64]>,
-    ) -> CriticFits {
-        let clock = Instant::now();
-        let Critics { env, guidance } = self;
-        let (env_loss, guidance_loss) = rayon::join(
-            || {
-                in_phase("critic fits", || {
-                    let mut rng = generator(seed, k, Stream::EnvCriticFit);
-                    env.fit(engine, obs, env_returns, &mut rng)
-                })
-            },
-            || match (guidance, guidance_returns) {
-                (Some(critic), Some(returns)) => in_phase("critic fits", || {
-                    let mut rng = generator(seed, k, Stream::GuidanceCriticFit);
-                    critic.fit(engine, obs, returns, &mut rng)
-                }),
-                _ => f64::NAN,
-            },
-        );
-        CriticFits {
-            env_loss,
-            guidance_loss,
-            seconds: clock.elapsed().as_secs_f64(),
-        }
-    }
-}
-
-/// The networks as burn modules on the CPU: their definitions (the reference's
-/// initialisation), and the form checkpoints are written and read in, whatever the engine.
-pub(super) struct Modules {
-    pub(super) policy: GaussianPolicy<Cpu>,
-    pub(super) critic: Vec<ValueNet<Cpu>>,
-    pub(super) guidance_critic: Option<Vec<ValueNet<Cpu>>>,
-    pub(super) discriminator: Option<Discriminator<Cpu>>,
-}
-
-/// From `from_iteration` on (until the next span), the run trained on `engine`.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct EngineSpan {
-    pub from_iteration: usize,
-    pub engine: String,
 }

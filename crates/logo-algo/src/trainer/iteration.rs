@@ -1,0 +1,522 @@
+//! One iteration of LOGO (Algorithm 1), top to bottom: [`Trainer::iterate`] and the
+//! steps it calls, each a function of what it reads and writes (so that the schedule can
+//! run them side by side):
+//!
+//! 1. collect whole episodes with π_k;
+//! 2. advantages of the env reward, with the env critic as it stands;
+//! 3. δ_k from the batch's mean sparse return; while δ_k is above its floor, the guidance
+//!    reward r_C (from last iteration's discriminator, or log π_b − log π_k) and its
+//!    advantages with the guidance critic;
+//! 4. improvement step (`[improvement]`'s kind, KL ≈ δ = `max_kl`) → π_{k+½};
+//! 5. guidance step (`[guidance.update]`'s kind, KL ≈ δ_k, ratio against π_k) → π_{k+1};
+//! 6. one discriminator update;
+//! 7. both critics fitted to this batch's returns (for iteration k+1's advantages);
+//! 8. evaluation of π_{k+1} on the dense env with the mean action; metrics row, checkpoint.
+//!
+//! Without `[guidance]` it is the improvement step alone (TRPO, PPO, ...). Which of steps
+//! 4-8 run beside which is decided in one place, [`Trainer::steps_and_fits`], by the
+//! run's [`Schedule`](super::Schedule).
+
+use std::time::Instant;
+
+use burn::tensor::Tensor;
+use logo_nn::flops::in_phase;
+use logo_nn::{Engine, Policy};
+
+use super::Trainer;
+use super::learner::CriticFits;
+use super::resources::{Collected, Resources};
+use crate::config::TrainConfig;
+use crate::critic::CriticSet;
+use crate::episode::Evaluation;
+use crate::gae::{GaeInput, gae, normalise};
+use crate::guidance::Guidance;
+use crate::metrics::IterationMetrics;
+use crate::policy_update::{StepBatch, StopReason, UpdateState, UpdateStats};
+use crate::run_dir::TrainError;
+use crate::sampler::Batch;
+use crate::streams::{Stream, generator};
+
+impl<E: Engine> Trainer<E> {
+    /// One iteration, in Algorithm 1's order.
+    pub(super) fn iterate(&mut self) -> Result<IterationMetrics, TrainError> {
+        let k = self.learner.iteration;
+        // 1. Collect (s, a, r) with π_k (the pipelined schedule did so during k − 1).
+        let collected = match self.next_batch.take() {
+            Some(collected) => collected,
+            None => self.collect()?,
+        };
+        let mut clock = Stopwatch::start();
+        let batch = &collected.batch;
+        let (obs, actions, logp_k) = in_phase("sampling", || self.upload(batch));
+        let t_upload = clock.lap();
+
+        // 2. Advantages of the env reward, with the env critic as it stands.
+        let (engine, config) = (&self.resources.engine, &self.config);
+        let env = in_phase("advantages", || {
+            advantages(
+                engine,
+                config,
+                &self.learner.critics.env,
+                batch,
+                &obs,
+                &batch.rewards,
+            )
+        });
+        let data = StepBatch {
+            advantages: engine.upload(&env.normalised, [batch.len()]),
+            obs,
+            actions,
+            logp_old: logp_k,
+            rows: batch.len(),
+        };
+
+        // 3. δ_k, then the guidance reward and its advantages while δ_k is above its floor.
+        let guidance = in_phase("advantages", || self.guidance_stream(k, batch, &data));
+        let t_advantages = clock.lap();
+
+        self.learner.iteration += 1;
+        self.learner.samples += batch.len();
+        // 4-8.
+        let rewardless = batch.rewards.iter().all(|&r| r == 0.0);
+        let inputs = StepInputs {
+            k,
+            data: &data,
+            stream: guidance.as_ref(),
+            skip_improvement: self.config.skip_improvement_without_reward && rewardless,
+        };
+        let later = self
+            .steps_and_fits(inputs, &env)
+            .map_err(|e| self.stopped(e))?;
+        let row = IterationMetrics {
+            t_sampling: collected.seconds + t_upload,
+            t_advantages,
+            ..IterationMetrics::default()
+        };
+        self.record(k, row, batch, guidance.as_ref(), later)
+    }
+
+    /// A batch collected with the policy as it stands.
+    fn collect(&mut self) -> Result<Collected, TrainError> {
+        let Resources {
+            engine, collector, ..
+        } = &mut self.resources;
+        let acting = self.learner.policy.acting(engine);
+        collector.collect(&acting, self.config.samples_per_iter)
+    }
+
+    /// The batch's observations, actions and log π_k on the engine: uploaded once.
+    fn upload(&self, batch: &Batch) -> (E::Rows, Tensor<E::B, 2>, Tensor<E::B, 1>) {
+        let engine = &self.resources.engine;
+        let obs = engine.rows(&batch.obs, batch.obs_dim);
+        let actions = engine.upload(&batch.actions, [batch.len(), batch.act_dim]);
+        let logp_k = self.learner.policy.log_prob(engine, &obs, &actions);
+        (obs, actions, logp_k)
+    }
+
+    /// Step 3: δ_k from the batch's mean sparse return; then, while δ_k is above its
+    /// floor, r_C and its advantages with the guidance critic.
+    fn guidance_stream(
+        &mut self,
+        k: usize,
+        batch: &Batch,
+        data: &StepBatch<E>,
+    ) -> Option<GuidanceStream<E>> {
+        let g = self.learner.guidance.as_mut()?;
+        g.schedule.update(k, batch.mean_return());
+        if !g.schedule.guidance_on() {
+            return None;
+        }
+        let reward = g.rewards(&self.resources.engine, batch, data);
+        let critic = self
+            .learner
+            .critics
+            .guidance
+            .as_ref()
+            .expect("guidance has a critic");
+        let advantages = advantages(
+            &self.resources.engine,
+            &self.config,
+            critic,
+            batch,
+            &data.obs,
+            &reward.rewards,
+        );
+        Some(GuidanceStream {
+            advantages,
+            discriminator_inputs: reward.discriminator_inputs,
+            mean_reward: reward.rewards.iter().sum::<f64>() / reward.rewards.len().max(1) as f64,
+        })
+    }
+
+    /// Steps 4-8 of iteration `k`, laid over the threads by the schedule: the one place
+    /// that says what runs beside what.
+    fn steps_and_fits(
+        &mut self,
+        inputs: StepInputs<'_, E>,
+        env: &Advantages,
+    ) -> Result<Later, TrainError> {
+        let (k, data) = (inputs.k, inputs.data);
+        let collect_next = !self.done();
+        let evaluate_now = k.is_multiple_of(self.config.eval_every) || self.done();
+        let (learner, resources) = (&mut self.learner, &mut self.resources);
+        let (engine, config) = (&resources.engine, &self.config);
+        let guidance_returns = inputs.stream.map(|s| s.advantages.returns.as_slice());
+        let samples = config.samples_per_iter;
+        let (steps, fits, (evaluation, t_evaluation), next) = resources.schedule.run(
+            &mut learner.policy,
+            |policy| policy.acting(engine),
+            // 4-6.
+            |policy| {
+                policy_steps(
+                    engine,
+                    config,
+                    policy,
+                    &mut learner.improvement,
+                    learner.guidance.as_mut(),
+                    &inputs,
+                )
+            },
+            // 7.
+            || {
+                learner.critics.fit(
+                    engine,
+                    (config.seed, k),
+                    &data.obs,
+                    &env.returns,
+                    guidance_returns,
+                )
+            },
+            // 8, and batch k + 1 with π_{k+1}.
+            |acting| resources.evaluator.timed(acting, k, evaluate_now),
+            |acting| {
+                resources
+                    .collector
+                    .collect_if(collect_next, acting, samples)
+            },
+        )?;
+        Ok(Later {
+            steps,
+            fits,
+            evaluation,
+            t_evaluation,
+            next,
+        })
+    }
+
+    /// Iteration `k`'s row of metrics.csv, and its checkpoint when one is due.
+    fn record(
+        &mut self,
+        k: usize,
+        timed: IterationMetrics,
+        batch: &Batch,
+        stream: Option<&GuidanceStream<E>>,
+        later: Later,
+    ) -> Result<IterationMetrics, TrainError> {
+        check_critic_fits(&later.fits, stream.is_some()).map_err(|e| self.stopped(e))?;
+        let row = self.metrics_row(k, timed, batch, stream, &later);
+        let every = self.config.checkpoint_every;
+        let due = self
+            .recorder
+            .append(&row, self.learner.iteration, self.done(), every)?;
+        self.next_batch = later.next;
+        if let Some(eval_return) = due.best {
+            self.save_checkpoint(&self.recorder.best_path())?;
+            self.recorder.best_saved(eval_return);
+        }
+        if due.checkpoint {
+            self.save_checkpoint(&self.recorder.checkpoint_path())?;
+            self.recorder.checkpoint_saved(self.learner.iteration);
+        }
+        Ok(row)
+    }
+
+    /// The metrics.csv row of iteration `k` (the timings of steps 1-3 are in `timed`).
+    fn metrics_row(
+        &self,
+        k: usize,
+        timed: IterationMetrics,
+        batch: &Batch,
+        stream: Option<&GuidanceStream<E>>,
+        later: &Later,
+    ) -> IterationMetrics {
+        let Later {
+            steps,
+            fits,
+            evaluation,
+            t_evaluation,
+            ..
+        } = later;
+        let eval = |of: fn(&Evaluation) -> f64| evaluation.as_ref().map_or(f64::NAN, of);
+        let mut row = IterationMetrics {
+            iteration: k,
+            samples: self.learner.samples,
+            wall_s: self.recorder.wall_s(),
+            episodes: batch.episode_returns.len(),
+            train_sparse_return: batch.mean_return(),
+            train_dense_return: batch.mean_dense_return(),
+            eval_dense_return: eval(|e| e.dense_return),
+            eval_return: eval(|e| e.return_),
+            eval_moved: eval(|e| e.moved),
+            eval_action_rms: eval(|e| e.action_rms),
+            delta_k: self
+                .learner
+                .guidance
+                .as_ref()
+                .map_or(0.0, |g| g.schedule.delta),
+            guidance_reward: stream.map_or(f64::NAN, |s| s.mean_reward),
+            mean_log_std: self.learner.policy.log_std.iter().sum::<f64>()
+                / self.learner.policy.act_dim() as f64,
+            critic_loss: fits.env_loss,
+            guidance_critic_loss: fits.guidance_loss,
+            disc_loss: steps.disc_loss.unwrap_or(f64::NAN),
+            t_critics: fits.seconds,
+            t_policy_step: steps.t_policy_step,
+            t_guidance: steps.t_guidance,
+            t_discriminator: steps.t_discriminator,
+            t_evaluation: *t_evaluation,
+            ..timed
+        };
+        row.improvement(&steps.improvement);
+        row.guidance(steps.guidance.as_ref());
+        row
+    }
+}
+
+/// Normalised advantages and the critic's regression targets of one reward stream.
+struct Advantages {
+    normalised: Vec<f64>,
+    returns: Vec<f64>,
+}
+
+/// Step 3's output while the guidance step runs.
+struct GuidanceStream<E: Engine> {
+    advantages: Advantages,
+    discriminator_inputs: Option<E::Rows>,
+    mean_reward: f64,
+}
+
+/// What steps 4-6 did.
+struct PolicySteps {
+    improvement: UpdateStats,
+    guidance: Option<UpdateStats>,
+    disc_loss: Option<f64>,
+    t_policy_step: f64,
+    t_guidance: f64,
+    t_discriminator: f64,
+}
+
+/// What steps 4-8 produced.
+struct Later {
+    steps: PolicySteps,
+    fits: CriticFits,
+    evaluation: Option<Evaluation>,
+    t_evaluation: f64,
+    next: Option<Collected>,
+}
+
+/// GAE for one reward stream with `critic` as it stands.
+fn advantages<E: Engine>(
+    engine: &E,
+    config: &TrainConfig,
+    critic: &CriticSet<E>,
+    batch: &Batch,
+    obs: &E::Rows,
+    rewards: &[f64],
+) -> Advantages {
+    let values = critic.values(engine, obs);
+    let mut truncation_values = vec![0.0; batch.len()];
+    if !batch.truncations.is_empty() {
+        let rows: Vec<f64> = batch
+            .truncations
+            .iter()
+            .flat_map(|(_, o)| o.iter().copied())
+            .collect();
+        let v = critic.values(engine, &engine.rows(&rows, batch.obs_dim));
+        for ((t, _), value) in batch.truncations.iter().zip(v) {
+            truncation_values[*t] = value;
+        }
+    }
+    let input = GaeInput {
+        rewards,
+        values: &values,
+        terminated: &batch.terminated,
+        episode_end: &batch.episode_end,
+        truncation_values: &truncation_values,
+    };
+    let (adv, returns) = gae(
+        &input,
+        config.gamma,
+        config.gae_lambda,
+        config.cross_episode_bootstrap,
+    );
+    Advantages {
+        normalised: normalise(&adv),
+        returns,
+    }
+}
+
+/// Stops the run when a step left a non-finite number behind.
+fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(format!("{step} produced a non-finite number (NaN or ±inf) in the {what}").into())
+    }
+}
+
+/// Takes a policy step's result as the policy; an error names `step` if the step or the
+/// new policy holds a non-finite number.
+fn take_step<E: Engine>(
+    engine: &E,
+    policy: &mut Policy<E>,
+    (next, stats): (Policy<E>, UpdateStats),
+    step: &str,
+) -> Result<UpdateStats, TrainError> {
+    *policy = next;
+    finite(
+        stats.is_finite() && policy.is_finite(engine),
+        step,
+        "policy's parameters or outputs",
+    )?;
+    Ok(stats)
+}
+
+/// Seconds between laps, for the per-phase times.
+struct Stopwatch(Instant);
+
+impl Stopwatch {
+    fn start() -> Self {
+        Self(Instant::now())
+    }
+
+    /// Seconds since the start or the previous lap.
+    fn lap(&mut self) -> f64 {
+        let now = Instant::now();
+        let seconds = (now - self.0).as_secs_f64();
+        self.0 = now;
+        seconds
+    }
+}
+
+/// What steps 4-6 of iteration `k` read.
+struct StepInputs<'a, E: Engine> {
+    k: usize,
+    data: &'a StepBatch<E>,
+    stream: Option<&'a GuidanceStream<E>>,
+    /// `skip_improvement_without_reward` on a batch without env reward.
+    skip_improvement: bool,
+}
+
+/// Steps 4-6 of iteration `k`: π_k → π_{k+½} → π_{k+1}, then the discriminator.
+fn policy_steps<E: Engine>(
+    engine: &E,
+    config: &TrainConfig,
+    policy: &mut Policy<E>,
+    improvement: &mut UpdateState,
+    mut guidance: Option<&mut Guidance<E>>,
+    inputs: &StepInputs<'_, E>,
+) -> Result<PolicySteps, TrainError> {
+    let mut clock = Stopwatch::start();
+    let improvement = improvement_step(engine, config, policy, improvement, inputs)?;
+    let t_policy_step = clock.lap();
+    let guidance_stats = match (guidance.as_deref_mut(), inputs.stream) {
+        (Some(g), Some(stream)) => Some(guidance_step(
+            engine,
+            config.seed,
+            policy,
+            g,
+            inputs,
+            stream,
+        )?),
+        _ => None,
+    };
+    let t_guidance = clock.lap();
+    let disc_loss = discriminator_step(engine, guidance, inputs.stream)?;
+    Ok(PolicySteps {
+        improvement,
+        guidance: guidance_stats,
+        disc_loss,
+        t_policy_step,
+        t_guidance,
+        t_discriminator: clock.lap(),
+    })
+}
+
+/// Step 4, the improvement step: π_k → π_{k+½}, KL ≈ δ (or none, if asked, on a batch
+/// without env reward).
+fn improvement_step<E: Engine>(
+    engine: &E,
+    config: &TrainConfig,
+    policy: &mut Policy<E>,
+    state: &mut UpdateState,
+    inputs: &StepInputs<'_, E>,
+) -> Result<UpdateStats, TrainError> {
+    if inputs.skip_improvement {
+        return Ok(UpdateStats {
+            stop: StopReason::NoReward,
+            ..UpdateStats::default()
+        });
+    }
+    let mut rng = generator(config.seed, inputs.k, Stream::ImprovementStep);
+    let step = in_phase("improvement step", || {
+        let update = &config.improvement;
+        update.update(engine, policy, inputs.data, config.max_kl, state, &mut rng)
+    });
+    take_step(engine, policy, step, "the improvement step")
+}
+
+/// Step 5, the guidance step on the same batch: π_{k+½} → π_{k+1}, KL ≈ δ_k, the ratio against π_k.
+fn guidance_step<E: Engine>(
+    engine: &E,
+    seed: u64,
+    policy: &mut Policy<E>,
+    guidance: &mut Guidance<E>,
+    inputs: &StepInputs<'_, E>,
+    stream: &GuidanceStream<E>,
+) -> Result<UpdateStats, TrainError> {
+    let data = inputs.data;
+    let advantages: Tensor<E::B, 1> = engine.upload(&stream.advantages.normalised, [data.rows]);
+    let mut rng = generator(seed, inputs.k, Stream::GuidanceStep);
+    let step = in_phase("guidance step", || {
+        guidance.step(engine, policy, data, advantages, &mut rng)
+    });
+    take_step(engine, policy, step, "the guidance step")
+}
+
+/// Step 6, the discriminator update: policy pairs 1, demonstration pairs 0.
+fn discriminator_step<E: Engine>(
+    engine: &E,
+    guidance: Option<&mut Guidance<E>>,
+    stream: Option<&GuidanceStream<E>>,
+) -> Result<Option<f64>, TrainError> {
+    let inputs = stream.and_then(|s| s.discriminator_inputs.as_ref());
+    let loss = in_phase("discriminator", || {
+        guidance.and_then(|g| g.train_discriminator(engine, inputs))
+    });
+    if let Some(loss) = loss {
+        finite(
+            loss.is_finite(),
+            "the discriminator update",
+            "discriminator's parameters or loss",
+        )?;
+    }
+    Ok(loss)
+}
+
+/// Step 7's check: a critic fit that left a non-finite loss stops the run.
+fn check_critic_fits(fits: &CriticFits, guidance: bool) -> Result<(), TrainError> {
+    finite(
+        fits.env_loss.is_finite(),
+        "the critic fit",
+        "env critic's parameters or loss",
+    )?;
+    if guidance {
+        finite(
+            fits.guidance_loss.is_finite(),
+            "the critic fit",
+            "guidance critic's parameters or loss",
+        )?;
+    }
+    Ok(())
+}

@@ -1,0 +1,226 @@
+//! The learner: a [`LearnerState`] on the engine, the form the iteration works on. It
+//! is made from a state ([`Learner::from_state`]) and gives one back
+//! ([`Learner::state`]); nothing else in it lasts from one iteration to the next.
+
+use std::time::Instant;
+
+use logo_data::Demonstrations;
+use logo_nn::flops::in_phase;
+use logo_nn::{Cpu, Engine, Policy, load_reference_policy};
+
+use super::learner_state::{EngineSpan, GuidanceState, LearnerState, Networks, SamplerState};
+use crate::config::TrainConfig;
+use crate::critic::CriticSet;
+use crate::discriminator::DiscriminatorTrainer;
+use crate::guidance::{Guidance, GuidanceSignal};
+use crate::policy_update::UpdateState;
+use crate::run_dir::TrainError;
+use crate::streams::{Stream, generator};
+
+pub(super) struct Learner<E: Engine> {
+    pub(super) policy: Policy<E>,
+    pub(super) improvement: UpdateState,
+    pub(super) critics: Critics<E>,
+    pub(super) guidance: Option<Guidance<E>>,
+    pub(super) iteration: usize,
+    pub(super) samples: usize,
+    pub(super) engines: Vec<EngineSpan>,
+}
+
+impl<E: Engine> Learner<E> {
+    /// `state` on `engine`, with the demonstrations a discriminator learns from. The
+    /// engine joins the state's history where it is not the last one named.
+    pub(super) fn from_state(
+        engine: &E,
+        config: &TrainConfig,
+        state: &LearnerState,
+        demos: Option<&Demonstrations>,
+    ) -> Result<Self, TrainError> {
+        let networks = &state.networks;
+        let mut critic = CriticSet::new(engine, &config.critic, &networks.critic);
+        critic.adam = state.critic_adam.clone();
+        let (guidance, guidance_critic) = match (&config.guidance, &state.guidance) {
+            (Some(_), Some(learned)) => {
+                let (g, critic) = guidance(engine, config, networks, learned, demos)?;
+                (Some(g), Some(critic))
+            }
+            (None, None) => (None, None),
+            _ => unreachable!("checked on load: a guidance state exactly with [guidance]"),
+        };
+        let critics = Critics {
+            env: critic,
+            guidance: guidance_critic,
+        };
+        let mut engines = state.engines.clone();
+        let now = engine.describe();
+        if engines.last().map(|span| &span.engine) != Some(&now) {
+            engines.push(EngineSpan {
+                from_iteration: state.iteration,
+                engine: now,
+            });
+        }
+        Ok(Self {
+            policy: Policy::from_module(engine, &networks.policy),
+            improvement: state.improvement.clone(),
+            critics,
+            guidance,
+            iteration: state.iteration,
+            samples: state.samples,
+            engines,
+        })
+    }
+
+    /// The learner as a [`LearnerState`], its networks written into `shapes` (modules of
+    /// the same sizes), with the sampler's state before the next batch.
+    pub(super) fn state(
+        &self,
+        engine: &E,
+        shapes: &Networks,
+        sampler: Option<SamplerState>,
+    ) -> LearnerState {
+        let guidance = self.guidance.as_ref();
+        let discriminator = guidance.and_then(|g| match &g.signal {
+            GuidanceSignal::Discriminator(d) => Some(d),
+            GuidanceSignal::Behaviour(_) => None,
+        });
+        let networks = Networks {
+            policy: self.policy.to_module(engine, shapes.policy.clone()),
+            critic: self.critics.env.to_modules(engine, &shapes.critic),
+            guidance_critic: self
+                .critics
+                .guidance
+                .as_ref()
+                .zip(shapes.guidance_critic.as_ref())
+                .map(|(critic, shapes)| critic.to_modules(engine, shapes)),
+            discriminator: discriminator
+                .zip(shapes.discriminator.clone())
+                .map(|(d, shape)| d.to_module(engine, shape)),
+        };
+        LearnerState {
+            iteration: self.iteration,
+            samples: self.samples,
+            networks,
+            improvement: self.improvement.clone(),
+            critic_adam: self.critics.env.adam.clone(),
+            guidance: guidance.map(|g| GuidanceState {
+                schedule: g.schedule.clone(),
+                update: g.state.clone(),
+                critic_adam: self
+                    .critics
+                    .guidance
+                    .as_ref()
+                    .map(|c| c.adam.clone())
+                    .unwrap_or_default(),
+                discriminator_adam: discriminator.map(|d| d.optim.clone()),
+            }),
+            sampler,
+            engines: self.engines.clone(),
+        }
+    }
+}
+
+/// LOGO's guidance and its critic as `learned` left them: a discriminator on `demos`, or
+/// a known behaviour policy.
+fn guidance<E: Engine>(
+    engine: &E,
+    config: &TrainConfig,
+    networks: &Networks,
+    learned: &GuidanceState,
+    demos: Option<&Demonstrations>,
+) -> Result<(Guidance<E>, CriticSet<E>), TrainError> {
+    let g = config.guidance.as_ref().expect("guidance");
+    let critic_config = config.guidance_critic().expect("guidance has a critic");
+    let nets = networks
+        .guidance_critic
+        .as_ref()
+        .expect("guidance has a critic");
+    let mut critic = CriticSet::new(engine, critic_config, nets);
+    critic.adam = learned.critic_adam.clone();
+    let signal = match (&g.behaviour_policy, demos, &networks.discriminator) {
+        (Some(path), _, _) => GuidanceSignal::Behaviour(Policy::from_module(
+            engine,
+            &load_reference_policy::<Cpu>(path, &Default::default())?,
+        )),
+        (None, Some(demos), Some(module)) => {
+            let mut d = DiscriminatorTrainer::new(engine, module, demos, g.discriminator_lr);
+            d.optim = learned.discriminator_adam.clone().unwrap_or_default();
+            GuidanceSignal::Discriminator(d)
+        }
+        _ => unreachable!("validated: demos or behaviour_policy"),
+    };
+    let guidance = Guidance {
+        signal,
+        schedule: learned.schedule.clone(),
+        update: config.guidance_update().expect("guidance").clone(),
+        state: learned.update.clone(),
+    };
+    Ok((guidance, critic))
+}
+
+/// The networks must fit the env's dims (a checkpoint of another env's sizes would
+/// otherwise fail later, inside a product).
+pub(super) fn check_dims(
+    networks: &Networks,
+    obs_dim: usize,
+    act_dim: usize,
+) -> Result<(), String> {
+    let policy = &networks.policy;
+    if (policy.obs_dim(), policy.act_dim()) != (obs_dim, act_dim) {
+        return Err(format!(
+            "the policy's obs/action dims are ({}, {}), the env's ({obs_dim}, {act_dim})",
+            policy.obs_dim(),
+            policy.act_dim()
+        ));
+    }
+    Ok(())
+}
+
+/// The critics of both reward streams.
+pub(super) struct Critics<E: Engine> {
+    pub(super) env: CriticSet<E>,
+    pub(super) guidance: Option<CriticSet<E>>,
+}
+
+/// Step 7's losses (NaN for a stream not fitted) and wall time.
+pub(super) struct CriticFits {
+    pub(super) env_loss: f64,
+    pub(super) guidance_loss: f64,
+    pub(super) seconds: f64,
+}
+
+impl<E: Engine> Critics<E> {
+    /// Fits each critic to its stream's returns on `obs`, each from its own stream of
+    /// minibatch shuffles. The two fits are independent, so they run side by side: each
+    /// alone scales imperfectly over the threads, together they keep the cores busy.
+    pub(super) fn fit(
+        &mut self,
+        engine: &E,
+        (seed, k): (u64, usize),
+        obs: &E::Rows,
+        env_returns: &[f64],
+        guidance_returns: Option<&[f64]>,
+    ) -> CriticFits {
+        let clock = Instant::now();
+        let Critics { env, guidance } = self;
+        let (env_loss, guidance_loss) = rayon::join(
+            || {
+                in_phase("critic fits", || {
+                    let mut rng = generator(seed, k, Stream::EnvCriticFit);
+                    env.fit(engine, obs, env_returns, &mut rng)
+                })
+            },
+            || match (guidance, guidance_returns) {
+                (Some(critic), Some(returns)) => in_phase("critic fits", || {
+                    let mut rng = generator(seed, k, Stream::GuidanceCriticFit);
+                    critic.fit(engine, obs, returns, &mut rng)
+                }),
+                _ => f64::NAN,
+            },
+        );
+        CriticFits {
+            env_loss,
+            guidance_loss,
+            seconds: clock.elapsed().as_secs_f64(),
+        }
+    }
+}

@@ -1,0 +1,507 @@
+//! [`LearnerState`]: everything a run has learned and counted after an iteration, as one
+//! value on the CPU. A checkpoint is this value written out ([`LearnerState::save`]);
+//! `--resume` reads it back and checks it ([`LearnerState::load`]) before the run goes
+//! on. A new run starts from [`LearnerState::initial`], so new and resumed runs are
+//! built the same way.
+//!
+//! The file layout is the one every kept checkpoint has: the networks as named tensors
+//! (what `logo eval` reads), and the rest as JSON in the metadata's `resume` field.
+
+use std::path::Path;
+
+use logo_envs::{ResetPoint, RngState};
+use logo_nn::flat::params_to_vec;
+use logo_nn::{
+    Checkpoint, CheckpointMeta, Cpu, Discriminator, DiscriminatorConfig, GaussianPolicy,
+    PolicyConfig, ValueNet, load_reference_policy,
+};
+
+use crate::adam::Adam;
+use crate::config::{GuidanceConfig, TrainConfig};
+use crate::critic::CriticConfig;
+use crate::delta_schedule::DeltaSchedule;
+use crate::policy_update::UpdateState;
+use crate::run_dir::TrainError;
+
+/// Everything a run has learned and counted: see the module's doc.
+pub struct LearnerState {
+    /// Iterations done, and env steps collected in them.
+    pub iteration: usize,
+    pub samples: usize,
+    pub networks: Networks,
+    /// The improvement step's optimiser state (Adam moments, PPO-Penalty's β).
+    pub improvement: UpdateState,
+    /// Each env-critic net's Adam moments (the `adam` fit).
+    pub critic_adam: Vec<Adam>,
+    pub guidance: Option<GuidanceState>,
+    /// The sampler's generator and every env copy's reset point before the next batch;
+    /// None in a new run's state (the seed starts them) and where a run's batches carry
+    /// episodes over, which cannot be restored.
+    pub sampler: Option<SamplerState>,
+    /// Which engine ran which iterations.
+    pub engines: Vec<EngineSpan>,
+}
+
+/// What LOGO's guidance has learned besides its networks.
+#[derive(Debug, Clone)]
+pub struct GuidanceState {
+    /// δ_k and how it moves.
+    pub schedule: DeltaSchedule,
+    /// The guidance step's optimiser state.
+    pub update: UpdateState,
+    pub critic_adam: Vec<Adam>,
+    /// The discriminator's Adam (None with a known behaviour policy).
+    pub discriminator_adam: Option<Adam>,
+}
+
+/// The networks as burn modules on the CPU: their definitions (the reference's
+/// initialisation) and the form checkpoints are written and read in, whatever the engine.
+#[derive(Clone)]
+pub struct Networks {
+    pub policy: GaussianPolicy<Cpu>,
+    pub critic: Vec<ValueNet<Cpu>>,
+    pub guidance_critic: Option<Vec<ValueNet<Cpu>>>,
+    pub discriminator: Option<Discriminator<Cpu>>,
+}
+
+/// The sampler's generator and every env copy's reset point between two batches.
+#[derive(Debug, Clone)]
+pub struct SamplerState {
+    pub rng: RngState,
+    pub env_points: Vec<ResetPoint>,
+}
+
+/// From `from_iteration` on (until the next span), the run trained on `engine`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EngineSpan {
+    pub from_iteration: usize,
+    pub engine: String,
+}
+
+/// The metadata's `resume` field: the layout every kept checkpoint has, so it stays.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+struct ResumeRecord {
+    iteration: usize,
+    samples: usize,
+    sampler_rng: RngState,
+    env_points: Vec<ResetPoint>,
+    schedule: Option<DeltaSchedule>,
+    discriminator_adam: Option<Adam>,
+    improvement: UpdateState,
+    guidance: Option<UpdateState>,
+    critic_adam: Vec<Adam>,
+    guidance_critic_adam: Option<Vec<Adam>>,
+}
+
+impl LearnerState {
+    /// A new run's state: every network initialised from the seed (or the policy from
+    /// `init_policy`), optimisers fresh, δ_k at δ_0, nothing counted.
+    pub fn initial(
+        config: &TrainConfig,
+        obs_dim: usize,
+        act_dim: usize,
+    ) -> Result<Self, TrainError> {
+        Ok(Self {
+            iteration: 0,
+            samples: 0,
+            networks: Networks::init(config, obs_dim, act_dim)?,
+            improvement: UpdateState::default(),
+            critic_adam: vec![Adam::default(); config.critic.num_nets()],
+            guidance: config.guidance.as_ref().map(|g| GuidanceState {
+                schedule: DeltaSchedule::new(g.delta0, g.alpha, g.warmup),
+                update: UpdateState::default(),
+                critic_adam: vec![
+                    Adam::default();
+                    config.guidance_critic().map_or(0, |c| c.num_nets())
+                ],
+                discriminator_adam: g.demos.is_some().then(Adam::default),
+            }),
+            sampler: None,
+            engines: Vec::new(),
+        })
+    }
+
+    /// The state in `path`'s checkpoint and the config it runs under (with `iterations`
+    /// if given), checked against each other and against the networks it holds.
+    pub fn load(path: &Path, iterations: Option<usize>) -> Result<(TrainConfig, Self), TrainError> {
+        let ckpt = Checkpoint::load(path)?;
+        let bad = |what: String| -> TrainError { format!("{}: {what}", path.display()).into() };
+        let (config, record) = read_record(&ckpt, iterations).map_err(bad)?;
+        let meta = &ckpt.meta;
+        let initial = Self::initial(&config, meta.obs_dim, meta.act_dim)?;
+        let networks = initial.networks.read(&ckpt)?;
+        let state = Self {
+            iteration: record.iteration,
+            samples: record.samples,
+            networks,
+            improvement: record.improvement,
+            critic_adam: record.critic_adam,
+            // (A schedule without `[guidance]` in the config has nothing to drive.)
+            guidance: record
+                .schedule
+                .filter(|_| config.guidance.is_some())
+                .map(|schedule| GuidanceState {
+                    schedule,
+                    update: record.guidance.unwrap_or_default(),
+                    critic_adam: record.guidance_critic_adam.unwrap_or_default(),
+                    discriminator_adam: record.discriminator_adam,
+                }),
+            sampler: Some(SamplerState {
+                rng: record.sampler_rng,
+                env_points: record.env_points,
+            }),
+            engines: engine_history(meta).map_err(bad)?,
+        };
+        state.check_optimisers().map_err(bad)?;
+        Ok((config, state))
+    }
+
+    /// Writes the state as a checkpoint of a run of `config` on `env_id` (atomically).
+    pub fn save(
+        &self,
+        path: &Path,
+        config: &TrainConfig,
+        env_id: &str,
+        engine: &str,
+    ) -> Result<(), TrainError> {
+        let policy = &self.networks.policy;
+        let (obs_dim, act_dim) = (policy.obs_dim(), policy.act_dim());
+        let mut meta = CheckpointMeta::new(env_id, obs_dim, act_dim, algorithm(config));
+        let dims = policy.mean.dims();
+        meta.networks
+            .insert("policy".into(), dims[1..dims.len() - 1].to_vec());
+        meta.networks
+            .insert("critic".into(), config.critic.hidden.clone());
+        meta.iteration = self.iteration as u64;
+        meta.seed = config.seed;
+        meta.extra = serde_json::json!({
+            "samples": self.samples,
+            "engine": engine,
+            "engines": self.engines,
+            "config": config,
+            "resume": self.record(),
+        });
+        let mut ckpt = Checkpoint::new(meta);
+        let networks = &self.networks;
+        ckpt.insert("policy", &networks.policy);
+        ckpt.insert("critic", &networks.critic);
+        if let Some(nets) = &networks.guidance_critic {
+            ckpt.insert("guidance_critic", nets);
+        }
+        if let Some(d) = &networks.discriminator {
+            ckpt.insert("discriminator", d);
+        }
+        ckpt.save(path)?;
+        Ok(())
+    }
+
+    /// The metadata's `resume` field; None (JSON null) where the sampler cannot be
+    /// restored.
+    fn record(&self) -> Option<ResumeRecord> {
+        let sampler = self.sampler.clone()?;
+        let guidance = self.guidance.as_ref();
+        Some(ResumeRecord {
+            iteration: self.iteration,
+            samples: self.samples,
+            sampler_rng: sampler.rng,
+            env_points: sampler.env_points,
+            schedule: guidance.map(|g| g.schedule.clone()),
+            discriminator_adam: guidance.and_then(|g| g.discriminator_adam.clone()),
+            improvement: self.improvement.clone(),
+            guidance: guidance.map(|g| g.update.clone()),
+            critic_adam: self.critic_adam.clone(),
+            guidance_critic_adam: guidance.map(|g| g.critic_adam.clone()),
+        })
+    }
+
+    /// Every optimiser state must fit the network it steps (a damaged or hand-edited
+    /// checkpoint can get that wrong).
+    fn check_optimisers(&self) -> Result<(), String> {
+        let networks = &self.networks;
+        let policy_len = params_to_vec(&networks.policy).len();
+        let mut adams = vec![("improvement.adam", &self.improvement.adam, policy_len)];
+        let mut sets = vec![("critic_adam", &self.critic_adam, &networks.critic)];
+        if let (Some(g), Some(nets)) = (&self.guidance, &networks.guidance_critic) {
+            sets.push(("guidance_critic_adam", &g.critic_adam, nets));
+        }
+        for (name, set, nets) in sets {
+            if set.len() != nets.len() {
+                return Err(format!(
+                    "resume state {name}: {} Adam states for {} critics",
+                    set.len(),
+                    nets.len()
+                ));
+            }
+            for (adam, net) in set.iter().zip(nets) {
+                adams.push((name, adam, params_to_vec(net).len()));
+            }
+        }
+        if let Some(g) = &self.guidance {
+            adams.push(("guidance.adam", &g.update.adam, policy_len));
+            if let (Some(adam), Some(d)) = (&g.discriminator_adam, &networks.discriminator) {
+                adams.push(("discriminator_adam", adam, params_to_vec(&d.net).len()));
+            }
+        }
+        for (name, adam, len) in adams {
+            adam.check(len)
+                .map_err(|e| format!("resume state {name}: {e}"))?;
+        }
+        Ok(())
+    }
+}
+
+/// The algorithm a checkpoint's metadata names: "logo" with a guidance step, else "trpo".
+fn algorithm(config: &TrainConfig) -> &'static str {
+    if config.guidance.is_some() {
+        "logo"
+    } else {
+        "trpo"
+    }
+}
+
+/// The config (with `iterations` if given) and the resume record of `ckpt`, checked
+/// against each other and against the networks the metadata lists.
+fn read_record(
+    ckpt: &Checkpoint,
+    iterations: Option<usize>,
+) -> Result<(TrainConfig, ResumeRecord), String> {
+    let extra = &ckpt.meta.extra;
+    let mut config: TrainConfig = serde_json::from_value(extra["config"].clone())
+        .map_err(|e| format!("metadata config: {e}"))?;
+    if extra["resume"].is_null() {
+        return Err(
+            "holds no resume state (runs with rollout = \"steps\" continue episodes \
+             across iterations and cannot be resumed exactly; older checkpoints lack it)"
+                .into(),
+        );
+    }
+    let record: ResumeRecord = serde_json::from_value(extra["resume"].clone())
+        .map_err(|e| format!("metadata resume state: {e}"))?;
+    // A run copied from another clone names files by that clone's absolute paths.
+    if let Ok(here) = std::env::current_dir() {
+        for note in config.relocate_missing_paths(&here) {
+            eprintln!("note: {note}");
+        }
+    }
+    if let Some(n) = iterations {
+        config.iterations = n;
+    }
+    config
+        .validate()
+        .map_err(|e| format!("metadata config: {e}"))?;
+    record.check(&config)?;
+    check_config_against_meta(&ckpt.meta, &config, &record)?;
+    Ok((config, record))
+}
+
+/// The stored config must describe the stored networks (it sizes them before the
+/// tensors are read), the algorithm that wrote them and the iteration reached.
+fn check_config_against_meta(
+    meta: &CheckpointMeta,
+    config: &TrainConfig,
+    record: &ResumeRecord,
+) -> Result<(), String> {
+    for (what, found, expected) in [
+        (
+            "env",
+            meta.env_id.clone(),
+            config.env.env_id().map_err(|e| e.to_string())?,
+        ),
+        (
+            "algorithm",
+            meta.algorithm.clone(),
+            algorithm(config).to_string(),
+        ),
+        (
+            "policy network",
+            format!("{:?}", meta.networks.get("policy")),
+            format!("{:?}", Some(&config.policy_hidden)),
+        ),
+        (
+            "critic network",
+            format!("{:?}", meta.networks.get("critic")),
+            format!("{:?}", Some(&config.critic.hidden)),
+        ),
+    ] {
+        if found != expected {
+            return Err(format!(
+                "the metadata's {what} is {found}, its config says {expected}"
+            ));
+        }
+    }
+    if meta.iteration != record.iteration as u64 {
+        return Err(format!(
+            "the metadata's iteration is {}, its resume state says {}",
+            meta.iteration, record.iteration
+        ));
+    }
+    Ok(())
+}
+
+impl ResumeRecord {
+    /// Values a damaged or hand-edited checkpoint can get wrong, checked against the
+    /// config they will run under.
+    fn check(&self, config: &TrainConfig) -> Result<(), String> {
+        if self.samples < self.iteration {
+            return Err(format!(
+                "resume state: {} samples in {} iterations (each collects at least one)",
+                self.samples, self.iteration
+            ));
+        }
+        match (&self.schedule, &config.guidance) {
+            (Some(schedule), Some(g)) => schedule
+                .check(g.delta0)
+                .map_err(|e| format!("resume state schedule: {e}")),
+            (None, Some(_)) => Err("resume state: no δ schedule for the guidance step".into()),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The engine spans recorded in a checkpoint's metadata (older checkpoints name one
+/// engine, or none). A history that is there but malformed (not a list of spans, spans
+/// out of order, one past the checkpoint's iteration) is an error, not a history lost.
+pub fn engine_history(meta: &CheckpointMeta) -> Result<Vec<EngineSpan>, String> {
+    let extra = &meta.extra;
+    if extra.get("engines").is_none_or(|v| v.is_null()) {
+        return Ok(extra["engine"]
+            .as_str()
+            .map(|engine| {
+                vec![EngineSpan {
+                    from_iteration: 0,
+                    engine: engine.to_string(),
+                }]
+            })
+            .unwrap_or_default());
+    }
+    let spans: Vec<EngineSpan> = serde_json::from_value(extra["engines"].clone())
+        .map_err(|e| format!("metadata engines: {e}"))?;
+    let ordered = spans.first().is_none_or(|s| s.from_iteration == 0)
+        && spans
+            .windows(2)
+            .all(|w| w[0].from_iteration < w[1].from_iteration)
+        && spans
+            .iter()
+            .all(|s| !s.engine.trim().is_empty() && s.from_iteration as u64 <= meta.iteration);
+    if !ordered {
+        return Err(format!(
+            "metadata engines: expected spans from iteration 0 on, in increasing order, none \
+             past iteration {} and each naming an engine; got {}",
+            meta.iteration, extra["engines"]
+        ));
+    }
+    Ok(spans)
+}
+
+impl Networks {
+    /// Every network of the run, initialised from the seed (or the policy from
+    /// `init_policy`). burn draws initial weights from one process-wide generator: it is
+    /// held from the seeding to the last parameter drawn, or trainers built at the same
+    /// time on other threads (tests, sweeps) would interleave their draws.
+    fn init(config: &TrainConfig, obs_dim: usize, act_dim: usize) -> Result<Self, TrainError> {
+        use burn::tensor::backend::Backend;
+        static INIT: std::sync::Mutex<()> = std::sync::Mutex::new(());
+        let _init = INIT.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let device = Default::default();
+        Cpu::seed(&device, config.seed);
+        let policy = initial_policy(config, obs_dim, act_dim, &device)?;
+        let critic_nets = |c: &CriticConfig| -> Vec<ValueNet<Cpu>> {
+            (0..c.num_nets())
+                .map(|_| c.net(obs_dim).init(&device))
+                .collect()
+        };
+        let critic = critic_nets(&config.critic);
+        let guidance_critic = config.guidance_critic().map(critic_nets);
+        let discriminator = match &config.guidance {
+            Some(g) if g.demos.is_some() => {
+                Some(discriminator_module(g, obs_dim, act_dim, &device)?)
+            }
+            _ => None,
+        };
+        // burn initialises parameters lazily, at their first use: draw them all now, under
+        // the lock, in a fixed order.
+        let _ = params_to_vec(&policy);
+        let _ = params_to_vec(&critic);
+        if let Some(nets) = &guidance_critic {
+            let _ = params_to_vec(nets);
+        }
+        if let Some(d) = &discriminator {
+            let _ = params_to_vec(d);
+        }
+        Ok(Self {
+            policy,
+            critic,
+            guidance_critic,
+            discriminator,
+        })
+    }
+
+    /// These networks with the parameters `ckpt` holds for them.
+    fn read(self, ckpt: &Checkpoint) -> Result<Self, TrainError> {
+        Ok(Self {
+            policy: ckpt.apply("policy", self.policy)?,
+            critic: ckpt.apply("critic", self.critic)?,
+            guidance_critic: self
+                .guidance_critic
+                .map(|nets| ckpt.apply("guidance_critic", nets))
+                .transpose()?,
+            discriminator: self
+                .discriminator
+                .map(|d| ckpt.apply("discriminator", d))
+                .transpose()?,
+        })
+    }
+}
+
+type CpuDevice = burn::tensor::Device<Cpu>;
+
+/// The policy from `init_policy` (a reference `.pt`, which must fit the env), or a new
+/// one of the config's sizes.
+fn initial_policy(
+    config: &TrainConfig,
+    obs_dim: usize,
+    act_dim: usize,
+    device: &CpuDevice,
+) -> Result<GaussianPolicy<Cpu>, TrainError> {
+    let Some(path) = &config.init_policy else {
+        return Ok(PolicyConfig {
+            obs_dim,
+            act_dim,
+            hidden: config.policy_hidden.clone(),
+            log_std_init: config.log_std_init,
+        }
+        .init(device));
+    };
+    let policy = load_reference_policy::<Cpu>(path, device)?;
+    if (policy.obs_dim(), policy.act_dim()) != (obs_dim, act_dim) {
+        return Err(format!(
+            "init_policy {}: obs/action dims ({}, {}) do not match {} ({obs_dim}, {act_dim})",
+            path.display(),
+            policy.obs_dim(),
+            policy.act_dim(),
+            config.env,
+        )
+        .into());
+    }
+    Ok(policy)
+}
+
+/// The discriminator of `[guidance]`, on the first `observe` observation dims.
+fn discriminator_module(
+    g: &GuidanceConfig,
+    obs_dim: usize,
+    act_dim: usize,
+    device: &CpuDevice,
+) -> Result<Discriminator<Cpu>, TrainError> {
+    let observe = g.observe.unwrap_or(obs_dim);
+    if observe > obs_dim {
+        return Err(format!("guidance.observe must be in 1..={obs_dim}, got {observe}").into());
+    }
+    Ok(DiscriminatorConfig {
+        observe,
+        act_dim,
+        hidden: g.discriminator_hidden.clone(),
+        init: g.discriminator_init,
+    }
+    .init(device))
+}
