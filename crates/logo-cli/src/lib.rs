@@ -2,12 +2,9 @@
 //! line and calls them; the Python package (`crates/logo-py`) calls the trainer's job and
 //! the evaluation the same way, so a run from Python writes what `logo train` writes.
 
-pub mod bench;
 pub mod data;
-pub mod engine;
 pub mod eval;
 pub mod final_eval;
 pub mod rollout;
-pub mod sweep;
 pub mod train;
 pub mod video;

@@ -3,8 +3,8 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use logo_cli::{bench, data, eval, rollout, sweep, train};
-use logo_lab::{plot, summary};
+use logo_cli::{data, eval, rollout, train};
+use logo_lab::{bench, plot, summary, sweep};
 
 #[derive(Parser)]
 #[command(

@@ -11,7 +11,7 @@ use logo_algo::{IterationMetrics, Schedule, TrainConfig, Trainer};
 use logo_envs::{EnvFactory, EnvOptions};
 use logo_nn::{Checkpoint, Engine, Policy};
 
-use crate::engine::{EngineArgs, WithEngine};
+use logo_engine::{EngineArgs, WithEngine};
 use crate::final_eval;
 use crate::video::{Frames, Video, VideoLook, record_episode};
 

@@ -10,7 +10,7 @@ use logo_algo::TrainConfig;
 use logo_nn::Checkpoint;
 use serde::{Deserialize, Serialize};
 
-use crate::engine::EngineArgs;
+use logo_engine::EngineArgs;
 
 #[derive(Args)]
 pub struct SweepArgs {

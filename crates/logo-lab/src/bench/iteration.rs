@@ -23,7 +23,7 @@ use serde::Serialize;
 
 use super::envs::single_thread_rates;
 use super::nn::block_products;
-use crate::engine::{Dtype, EngineArgs, WithEngine};
+use logo_engine::{Dtype, EngineArgs, WithEngine};
 use logo_stats::median;
 
 #[derive(Args)]

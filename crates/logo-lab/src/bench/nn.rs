@@ -18,7 +18,7 @@ use logo_nn::loss::{gaussian_log_prob, mse, value_and_grad, value_and_grad2};
 use logo_nn::{Cpu, Engine, FisherKind, FisherOperator, Policy, PolicyConfig, ValueNetConfig};
 use serde::Serialize;
 
-use crate::engine::{EngineArgs, WithEngine};
+use logo_engine::{EngineArgs, WithEngine};
 use logo_stats::median;
 
 #[derive(Args)]
@@ -289,7 +289,7 @@ pub fn run(args: &NnBenchArgs) -> Result<()> {
     let engines: Vec<EngineArgs> = if args.only {
         vec![args.engine.clone()]
     } else {
-        use crate::engine::{BackendKind, Dtype, EngineKind};
+        use logo_engine::{BackendKind, Dtype, EngineKind};
         let burn = |dtype| EngineArgs {
             engine: Some(EngineKind::Burn),
             backend: Some(BackendKind::Ndarray),
