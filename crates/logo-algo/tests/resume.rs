@@ -5,35 +5,18 @@ use std::path::Path;
 
 use logo_algo::{TrainConfig, Trainer};
 use logo_nn::Kernels;
-use logo_testkit::scratch;
+use logo_testkit::{Tiny, scratch};
 
 fn config(dir: &Path, guidance: bool) -> TrainConfig {
-    let demos =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/logo/inverted_double_pendulum");
-    let mut text = String::from(
-        r#"
-env = "SparseInvertedDoublePendulum-v4"
-iterations = 5
-samples_per_iter = 300
-num_envs = 3
-threads = 2
-policy_hidden = [16, 16]
-eval_steps = 60
-checkpoint_every = 2
-seed = 11
-[critic]
-hidden = [16, 16]
-fit = { method = "lbfgs", iterations = 4 }
-"#,
-    );
-    if guidance {
-        text += &format!(
-            "[guidance]\ndemos = {:?}\ndelta0 = 0.2\nalpha = 0.9\nwarmup = 1\n",
-            demos.to_str().unwrap()
-        );
-    }
-    let path = dir.join("config.toml");
-    std::fs::write(&path, text).unwrap();
+    let tiny = match guidance {
+        true => Tiny::logo().set("guidance.warmup", 1),
+        false => Tiny::trpo(),
+    };
+    let path = tiny
+        .lbfgs(4)
+        .with("iterations = 5\nnum_envs = 3\nthreads = 2\neval_steps = 60")
+        .with("checkpoint_every = 2\nseed = 11")
+        .write(&dir.join("config.toml"));
     TrainConfig::load(&path).unwrap()
 }
 

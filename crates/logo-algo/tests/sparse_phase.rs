@@ -2,34 +2,19 @@
 //! under a fresh policy) the improvement step is not taken, and the metrics say why;
 //! without the option the same batch takes a full step of critic noise.
 
-use std::path::{Path, PathBuf};
-
 use logo_algo::policy_update::StopReason;
 use logo_algo::{IterationMetrics, TrainConfig, Trainer};
 use logo_nn::Kernels;
+use logo_testkit::{Tiny, scratch};
 
 fn train(name: &str, skip: bool) -> Vec<IterationMetrics> {
-    let dir: PathBuf =
-        std::env::temp_dir().join(format!("logo-sparse-phase-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let text = format!(
-        r#"
-env = "SparseHopper-v4"
-iterations = 2
-samples_per_iter = 400
-num_envs = 2
-policy_hidden = [16, 16]
-eval_steps = 50
-seed = 1
-skip_improvement_without_reward = {skip}
-[critic]
-hidden = [16, 16]
-"#
-    );
-    let path = dir.join("config.toml");
-    std::fs::write(&path, text).unwrap();
-    let config = TrainConfig::load(Path::new(&path)).unwrap();
+    let dir = scratch(&format!("sparse-phase-{name}"));
+    let path = Tiny::trpo()
+        .with("env = \"SparseHopper-v4\"\nsamples_per_iter = 400\neval_steps = 50\nseed = 1")
+        .set("num_envs", 2)
+        .set("skip_improvement_without_reward", skip)
+        .write(&dir.join("config.toml"));
+    let config = TrainConfig::load(&path).unwrap();
     let mut trainer = Trainer::new(Kernels, config, &dir).unwrap();
     let mut rows = Vec::new();
     while !trainer.done() {

@@ -13,10 +13,10 @@ use logo_nn::{
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use logo_engine::{EngineArgs, WithEngine};
 use crate::video::{Video, VideoArgs};
 use logo_algo::EngineSpan;
 use logo_algo::episode::{Episode, run_episode_with};
+use logo_engine::{EngineArgs, WithEngine};
 use logo_stats::mean_std;
 
 #[derive(Args)]

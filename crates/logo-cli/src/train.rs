@@ -11,9 +11,9 @@ use logo_algo::{IterationMetrics, Schedule, TrainConfig, Trainer};
 use logo_envs::{EnvFactory, EnvOptions};
 use logo_nn::{Checkpoint, Engine, Policy};
 
-use logo_engine::{EngineArgs, WithEngine};
 use crate::final_eval;
 use crate::video::{Frames, Video, VideoLook, record_episode};
+use logo_engine::{EngineArgs, WithEngine};
 
 /// How each iteration's steps are laid over the threads (the numbers are the same).
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]

@@ -7,7 +7,7 @@ use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use logo_nn::Checkpoint;
-use logo_testkit::scratch;
+use logo_testkit::{Tiny, scratch};
 
 fn logo() -> Command {
     Command::new(env!("CARGO_BIN_EXE_logo"))
@@ -16,32 +16,12 @@ fn logo() -> Command {
 /// Sparse IDP LOGO at a small size; `variant` adds tables (minibatched kinds draw from
 /// the random streams of both the policy steps and the critic fits).
 fn config(dir: &Path, variant: &str) -> PathBuf {
-    let demos =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/logo/inverted_double_pendulum");
-    let text = format!(
-        r#"
-env = "SparseInvertedDoublePendulum-v4"
-iterations = 6
-samples_per_iter = 400
-num_envs = 3
-policy_hidden = [16, 16]
-eval_steps = 120
-checkpoint_every = 2
-seed = 5
-{variant}
-[critic]
-hidden = [16, 16]
-fit = {{ method = "lbfgs", iterations = 4 }}
-[guidance]
-demos = {demos:?}
-delta0 = 0.2
-alpha = 0.9
-warmup = 1
-"#
-    );
-    let path = dir.join("config.toml");
-    std::fs::write(&path, text).unwrap();
-    path
+    Tiny::logo()
+        .lbfgs(4)
+        .with("iterations = 6\nsamples_per_iter = 400\nnum_envs = 3\neval_steps = 120")
+        .with("checkpoint_every = 2\nseed = 5\n[guidance]\nwarmup = 1")
+        .with(variant)
+        .write(&dir.join("config.toml"))
 }
 
 const PPO_ADAM: &str = r#"

@@ -6,6 +6,7 @@
 //! It needs root (to install and start the daemons). Where that is not possible it is
 //! skipped, unless LOGO_REQUIRE_SLURM is set (CI sets it), which makes that a failure.
 
+use logo_testkit::Tiny;
 use std::path::PathBuf;
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -60,20 +61,7 @@ fn a_sweep_runs_as_a_slurm_job_array() {
     let dir = std::env::temp_dir().join(format!("logo-slurm-test-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let config = dir.join("tiny.toml");
-    std::fs::write(
-        &config,
-        r#"
-env = "SparseInvertedDoublePendulum-v4"
-iterations = 2
-samples_per_iter = 300
-policy_hidden = [16, 16]
-eval_steps = 100
-[critic]
-hidden = [16, 16]
-"#,
-    )
-    .unwrap();
+    let config = Tiny::trpo().write(&dir.join("tiny.toml"));
     let out = dir.join("sweep");
     let submitted = Command::new(env!("CARGO_BIN_EXE_logo"))
         .args([

@@ -2,7 +2,7 @@
 //! re-run to skip and to resume, a failing run reported with its log while the others
 //! finish, and the figure with its CSV checked against the runs' own metrics.
 
-use logo_testkit::{Logo, scratch};
+use logo_testkit::{Logo, Tiny, scratch};
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
@@ -11,16 +11,9 @@ fn logo(args: &[&str]) -> Output {
 }
 
 fn tiny(dir: &Path, name: &str, extra: &str) -> PathBuf {
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(
-        &path,
-        format!(
-            "env = \"SparseInvertedDoublePendulum-v4\"\niterations = 2\nsamples_per_iter = 300\n\
-             policy_hidden = [16, 16]\neval_steps = 100\n{extra}\n[critic]\nhidden = [16, 16]\n"
-        ),
-    )
-    .unwrap();
-    path
+    Tiny::trpo()
+        .with(extra)
+        .write(&dir.join(format!("{name}.toml")))
 }
 
 fn rows(run: &Path) -> Vec<Vec<String>> {

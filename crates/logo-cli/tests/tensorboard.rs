@@ -4,7 +4,7 @@
 //! values (as float32), the config as text; after a kill and a resume, the same again,
 //! with no step twice.
 
-use logo_testkit::python;
+use logo_testkit::{Tiny, python};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -99,21 +99,11 @@ fn tensorboard_reads_the_runs_metrics_also_after_a_kill_and_a_resume() {
     let dir = std::env::temp_dir().join(format!("logo-tensorboard-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let demos =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/logo/inverted_double_pendulum");
-    let config = dir.join("tiny.toml");
-    std::fs::write(
-        &config,
-        format!(
-            "env = \"SparseInvertedDoublePendulum-v4\"\niterations = 12\nsamples_per_iter = 1000\n\
-             num_envs = 3\npolicy_hidden = [16, 16]\neval_steps = 100\neval_every = 2\n\
-             checkpoint_every = 4\n[critic]\nhidden = [16, 16]\n\
-             fit = {{ method = \"lbfgs\", iterations = 4 }}\n[guidance]\ndemos = {:?}\n\
-             delta0 = 0.2\nalpha = 0.9\nwarmup = 1\n",
-            demos.to_str().unwrap()
-        ),
-    )
-    .unwrap();
+    let config = Tiny::logo()
+        .lbfgs(4)
+        .with("iterations = 12\nsamples_per_iter = 1000\nnum_envs = 3\neval_every = 2")
+        .with("checkpoint_every = 4\n[guidance]\nwarmup = 1")
+        .write(&dir.join("tiny.toml"));
     let run = dir.join("run");
     let logo = || Command::new(env!("CARGO_BIN_EXE_logo"));
     let mut child = logo()

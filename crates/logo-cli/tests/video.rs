@@ -5,7 +5,7 @@
 //! (Mesa's, `scripts/test.sh` installs them on CI); skipped without them unless
 //! LOGO_REQUIRE_VIDEO is set (CI sets it).
 
-use logo_testkit::{Logo, scratch};
+use logo_testkit::{Logo, Tiny, scratch};
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -187,20 +187,10 @@ fn video_every_leaves_the_runs_numbers_bit_identical() {
         return;
     }
     let dir = scratch("every");
-    let demos =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/logo/inverted_double_pendulum");
-    let config = dir.join("tiny.toml");
-    std::fs::write(
-        &config,
-        format!(
-            "env = \"SparseInvertedDoublePendulum-v4\"\niterations = 4\nsamples_per_iter = 400\n\
-             policy_hidden = [16, 16]\neval_steps = 100\n[critic]\nhidden = [16, 16]\n\
-             fit = {{ method = \"lbfgs\", iterations = 3 }}\n[guidance]\ndemos = {:?}\n\
-             delta0 = 0.2\nalpha = 0.9\nwarmup = 0\n",
-            demos.to_str().unwrap()
-        ),
-    )
-    .unwrap();
+    let config = Tiny::logo()
+        .lbfgs(3)
+        .with("iterations = 4\nsamples_per_iter = 400")
+        .write(&dir.join("tiny.toml"));
     let train = |name: &str, extra: &[&str]| {
         let out = dir.join(name);
         let mut args = vec!["train", "--config", config.to_str().unwrap()];

@@ -5,7 +5,7 @@
 //! LOGO_REQUIRE_WGPU is set (CI sets it).
 #![cfg(feature = "wgpu")]
 
-use std::path::Path;
+use logo_testkit::Tiny;
 use std::process::Command;
 
 use burn::tensor::Tensor;
@@ -204,20 +204,10 @@ fn a_wgpu_run_is_evaluated_and_resumed_on_the_cpu() {
     let dir = std::env::temp_dir().join(format!("logo-wgpu-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let demos =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/logo/inverted_double_pendulum");
-    let config = dir.join("tiny.toml");
-    std::fs::write(
-        &config,
-        format!(
-            "env = \"SparseInvertedDoublePendulum-v4\"\niterations = 2\nsamples_per_iter = 300\n\
-             policy_hidden = [16, 16]\neval_steps = 100\n[critic]\nhidden = [16, 16]\n\
-             fit = {{ method = \"lbfgs\", iterations = 5 }}\n[guidance]\ndemos = {:?}\n\
-             delta0 = 0.2\nalpha = 0.9\nwarmup = 0\ndiscriminator_hidden = [16, 16]\n",
-            demos.to_str().unwrap()
-        ),
-    )
-    .unwrap();
+    let config = Tiny::logo()
+        .lbfgs(5)
+        .with("[guidance]\ndiscriminator_hidden = [16, 16]")
+        .write(&dir.join("tiny.toml"));
     let logo = |args: &[&str]| {
         let out = Command::new(env!("CARGO_BIN_EXE_logo"))
             .args(args)
@@ -301,13 +291,9 @@ fn no_wgpu_adapter_is_an_error_naming_the_driver_to_install() {
     let dir = std::env::temp_dir().join(format!("logo-wgpu-none-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let config = dir.join("tiny.toml");
-    std::fs::write(
-        &config,
-        "env = \"SparseInvertedDoublePendulum-v4\"\niterations = 1\nsamples_per_iter = 300\n\
-         policy_hidden = [16, 16]\neval_steps = 100\n[critic]\nhidden = [16, 16]\n",
-    )
-    .unwrap();
+    let config = Tiny::trpo()
+        .set("iterations", 1)
+        .write(&dir.join("tiny.toml"));
     let train = |extra: &[&str]| {
         Command::new(env!("CARGO_BIN_EXE_logo"))
             .args(["train", "--config", config.to_str().unwrap()])

@@ -6,8 +6,8 @@ use std::sync::Arc;
 
 use clap::ValueEnum;
 use logo_algo::{Schedule, TrainConfig};
-use logo_engine::{BackendKind, Dtype, EngineArgs, EngineKind};
 use logo_cli::train::{Console, Job, Start, default_out, run_job};
+use logo_engine::{BackendKind, Dtype, EngineArgs, EngineKind};
 use logo_envs::{EnvMaker, EnvSpec};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

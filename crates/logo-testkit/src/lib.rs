@@ -1,6 +1,6 @@
 //! What logo-rl's tests share, so that each test file holds only its own checks:
-//! the repository root, the project venv's Python, scratch folders, and the `logo`
-//! binary run as a user runs it.
+//! the repository root, the project venv's Python, scratch folders, the `logo` binary
+//! run as a user runs it, and tiny configs ([`Tiny`]).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -104,4 +104,114 @@ pub fn one_line_error(out: &Output) -> String {
     let err = String::from_utf8_lossy(&out.stderr).trim().to_string();
     assert_eq!(err.lines().count(), 1, "one line, got: {err}");
     err
+}
+
+/// A tiny run's config: sparse IDP at sizes a test trains in seconds (2 iterations of 300
+/// samples, 16 × 16 networks, 100 evaluation steps), TRPO unless [`Tiny::logo`] adds
+/// LOGO's guidance. Tests change what they vary with [`Tiny::set`] or [`Tiny::with`].
+#[derive(Clone, Debug)]
+pub struct Tiny(toml::Table);
+
+impl Tiny {
+    /// TRPO on sparse IDP.
+    pub fn trpo() -> Self {
+        Self(toml::toml! {
+            env = "SparseInvertedDoublePendulum-v4"
+            iterations = 2
+            samples_per_iter = 300
+            policy_hidden = [16, 16]
+            eval_steps = 100
+            [critic]
+            hidden = [16, 16]
+        })
+    }
+
+    /// LOGO on sparse IDP, guided by the project's IDP demonstrations (δ_0 = 0.2,
+    /// α = 0.9, no warm-up).
+    pub fn logo() -> Self {
+        let demos = workspace().join("data/logo/inverted_double_pendulum");
+        Self::trpo()
+            .set("guidance.demos", demos.to_str().expect("a UTF-8 path"))
+            .set("guidance.delta0", 0.2)
+            .set("guidance.alpha", 0.9)
+            .set("guidance.warmup", 0)
+    }
+
+    /// `key` (dotted for a table's: `critic.fit.iterations`) set to `value`.
+    pub fn set(mut self, key: &str, value: impl Into<toml::Value>) -> Self {
+        let (tables, last) = match key.rsplit_once('.') {
+            Some((tables, last)) => (tables.split('.').collect(), last),
+            None => (Vec::new(), key),
+        };
+        let mut table = &mut self.0;
+        for name in tables {
+            table = table
+                .entry(name)
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+                .as_table_mut()
+                .unwrap_or_else(|| panic!("{name} of {key} is not a table"));
+        }
+        table.insert(last.to_string(), value.into());
+        self
+    }
+
+    /// The critic fitted by `iterations` of L-BFGS.
+    pub fn lbfgs(self, iterations: i64) -> Self {
+        self.set("critic.fit.method", "lbfgs")
+            .set("critic.fit.iterations", iterations)
+    }
+
+    /// Every key of the TOML `text` set (tables merged key by key).
+    pub fn with(mut self, text: &str) -> Self {
+        fn merge(into: &mut toml::Table, from: toml::Table) {
+            for (key, value) in from {
+                match (into.get_mut(&key), value) {
+                    (Some(toml::Value::Table(old)), toml::Value::Table(new)) => merge(old, new),
+                    (_, value) => {
+                        into.insert(key, value);
+                    }
+                }
+            }
+        }
+        let table: toml::Table = text.parse().unwrap_or_else(|e| panic!("{text}: {e}"));
+        merge(&mut self.0, table);
+        self
+    }
+
+    /// The config's TOML text.
+    pub fn text(&self) -> String {
+        toml::to_string(&self.0).expect("a TOML table")
+    }
+
+    /// Writes the config to `path`, which it returns.
+    pub fn write(&self, path: &Path) -> PathBuf {
+        std::fs::write(path, self.text()).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        path.to_path_buf()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Tiny;
+
+    #[test]
+    fn tiny_configs_set_keys_at_any_depth_and_merge_text() {
+        let text = Tiny::logo()
+            .lbfgs(3)
+            .set("iterations", 5)
+            .with("seed = 7\n[critic]\nhidden = [8]\n")
+            .text();
+        let table: toml::Table = text.parse().unwrap();
+        assert_eq!(table["iterations"].as_integer(), Some(5));
+        assert_eq!(table["seed"].as_integer(), Some(7));
+        assert_eq!(table["critic"]["fit"]["iterations"].as_integer(), Some(3));
+        assert_eq!(table["critic"]["hidden"].as_array().unwrap().len(), 1);
+        assert_eq!(table["guidance"]["delta0"].as_float(), Some(0.2));
+        assert!(
+            table["guidance"]["demos"]
+                .as_str()
+                .unwrap()
+                .ends_with("inverted_double_pendulum")
+        );
+    }
 }
