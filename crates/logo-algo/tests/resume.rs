@@ -328,3 +328,56 @@ fn a_kept_run_resumes() {
     assert!(trainer.done());
     assert_eq!(metrics(&dir).len(), done + 2);
 }
+
+/// A run kept inside a copy of the project resumes wherever that copy is: the files its
+/// config names by the old copy's absolute paths are found under the folders above it.
+#[test]
+fn a_moved_copy_of_a_run_finds_its_demonstrations_above_it() {
+    let dir = scratch("moved-copy");
+    let old = dir.join("old-clone");
+    let demos = old.join("data/idp-demos");
+    copy_folder(
+        &logo_testkit::workspace().join("data/logo/inverted_double_pendulum"),
+        &demos,
+    );
+    let run = old.join("runs/logo");
+    std::fs::create_dir_all(&run).unwrap();
+    let path = Tiny::logo()
+        .set("guidance.demos", demos.to_str().unwrap())
+        .set("checkpoint_every", 1)
+        .write(&dir.join("config.toml"));
+    let mut trainer = Trainer::new(Kernels, TrainConfig::load(&path).unwrap(), &run).unwrap();
+    trainer.step().unwrap();
+    drop(trainer);
+    let new = dir.join("new-clone");
+    std::fs::rename(&old, &new).unwrap();
+    let mut resumed =
+        Trainer::resume(Kernels, &new.join("runs/logo"), None).unwrap_or_else(|e| panic!("{e}"));
+    let demos = resumed
+        .config
+        .guidance
+        .as_ref()
+        .unwrap()
+        .demos
+        .clone()
+        .unwrap();
+    assert!(
+        demos.starts_with(new.canonicalize().unwrap()),
+        "{}",
+        demos.display()
+    );
+    resumed.step().unwrap();
+    assert!(resumed.done());
+}
+
+fn copy_folder(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let path = entry.unwrap().path();
+        let target = to.join(path.file_name().unwrap());
+        match path.is_dir() {
+            true => copy_folder(&path, &target),
+            false => drop(std::fs::copy(&path, &target).unwrap()),
+        }
+    }
+}

@@ -66,7 +66,7 @@ pub struct ModuleGraph {
     modules: BTreeMap<ModPath, Module>,
 }
 
-/// Human-readable module path: `crate` or `trainer::build`.
+/// Human-readable module path: `crate` or `trainer::iteration`.
 pub fn display(path: &[String]) -> String {
     if path.is_empty() {
         "crate".to_string()

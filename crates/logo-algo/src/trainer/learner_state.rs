@@ -126,7 +126,7 @@ impl LearnerState {
     pub fn load(path: &Path, iterations: Option<usize>) -> Result<(TrainConfig, Self), TrainError> {
         let ckpt = Checkpoint::load(path)?;
         let bad = |what: String| -> TrainError { format!("{}: {what}", path.display()).into() };
-        let (config, record) = read_record(&ckpt, iterations).map_err(bad)?;
+        let (config, record) = read_record(path, &ckpt, iterations).map_err(bad)?;
         let meta = &ckpt.meta;
         let initial = Self::initial(&config, meta.obs_dim, meta.act_dim)?;
         let networks = initial.networks.read(&ckpt)?;
@@ -262,6 +262,7 @@ fn algorithm(config: &TrainConfig) -> &'static str {
 /// The config (with `iterations` if given) and the resume record of `ckpt`, checked
 /// against each other and against the networks the metadata lists.
 fn read_record(
+    path: &Path,
     ckpt: &Checkpoint,
     iterations: Option<usize>,
 ) -> Result<(TrainConfig, ResumeRecord), String> {
@@ -277,9 +278,15 @@ fn read_record(
     }
     let record: ResumeRecord = serde_json::from_value(extra["resume"].clone())
         .map_err(|e| format!("metadata resume state: {e}"))?;
-    // A run copied from another clone names files by that clone's absolute paths.
-    if let Ok(here) = std::env::current_dir() {
-        for note in config.relocate_missing_paths(&here) {
+    // A run copied from another clone names files by that clone's absolute paths: they
+    // are looked for under the working folder, then under each folder above the run's
+    // (a run kept inside a clone finds that clone's data/).
+    let above_run = path.parent().into_iter().flat_map(Path::ancestors);
+    let roots = std::env::current_dir()
+        .into_iter()
+        .chain(above_run.map(Path::to_path_buf));
+    for root in roots {
+        for note in config.relocate_missing_paths(&root) {
             eprintln!("note: {note}");
         }
     }
