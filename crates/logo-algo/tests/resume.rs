@@ -381,3 +381,35 @@ fn copy_folder(from: &Path, to: &Path) {
         }
     }
 }
+
+/// A checkpoint that names no engine (older ones) resumes, and its continuation resumes
+/// again: the history starts at iteration 0 with the engine "not recorded".
+#[test]
+fn a_checkpoint_without_an_engine_history_resumes_twice() {
+    let dir = scratch("no-engines");
+    let path = Tiny::trpo()
+        .set("iterations", 3)
+        .set("checkpoint_every", 1)
+        .write(&dir.join("config.toml"));
+    let mut trainer = Trainer::new(Kernels, TrainConfig::load(&path).unwrap(), &dir).unwrap();
+    trainer.step().unwrap();
+    drop(trainer);
+    let checkpoint = dir.join("checkpoint.safetensors");
+    let mut ckpt = logo_nn::Checkpoint::load(&checkpoint).unwrap();
+    let extra = ckpt.meta.extra.as_object_mut().unwrap();
+    extra.remove("engine");
+    extra.remove("engines");
+    ckpt.save(&checkpoint).unwrap();
+    for _ in 0..2 {
+        let mut resumed = Trainer::resume(Kernels, &dir, None).unwrap_or_else(|e| panic!("{e}"));
+        resumed.step().unwrap();
+    }
+    let meta = logo_nn::Checkpoint::load(&checkpoint).unwrap().meta;
+    let spans = logo_algo::engine_history(&meta).unwrap();
+    assert_eq!(spans.len(), 2, "{spans:?}");
+    assert_eq!(
+        (spans[0].from_iteration, spans[0].engine.as_str()),
+        (0, "not recorded")
+    );
+    assert_eq!(spans[1].from_iteration, 1);
+}

@@ -52,6 +52,14 @@ impl<E: Engine> Learner<E> {
             guidance: guidance_critic,
         };
         let mut engines = state.engines.clone();
+        // A checkpoint that names no engine (written before they were recorded) still
+        // starts the history at iteration 0, as every later check of it expects.
+        if engines.is_empty() && state.iteration > 0 {
+            engines.push(EngineSpan {
+                from_iteration: 0,
+                engine: "not recorded".into(),
+            });
+        }
         let now = engine.describe();
         if engines.last().map(|span| &span.engine) != Some(&now) {
             engines.push(EngineSpan {
