@@ -9,7 +9,7 @@ use logo_nn::flops::in_phase;
 use logo_nn::{Cpu, Engine, Policy, load_reference_policy};
 
 use super::learner_state::{EngineSpan, GuidanceState, LearnerState, Networks, SamplerState};
-use crate::config::TrainConfig;
+use crate::config::{GuidanceConfig, TrainConfig};
 use crate::critic::CriticSet;
 use crate::discriminator::DiscriminatorTrainer;
 use crate::guidance::{Guidance, GuidanceSignal};
@@ -40,8 +40,8 @@ impl<E: Engine> Learner<E> {
         let mut critic = CriticSet::new(engine, &config.critic, &networks.critic);
         critic.adam = state.critic_adam.clone();
         let (guidance, guidance_critic) = match (&config.guidance, &state.guidance) {
-            (Some(_), Some(learned)) => {
-                let (g, critic) = guidance(engine, config, networks, learned, demos)?;
+            (Some(g), Some(learned)) => {
+                let (g, critic) = guidance(engine, config, g, networks, learned, demos)?;
                 (Some(g), Some(critic))
             }
             (None, None) => (None, None),
@@ -132,11 +132,11 @@ impl<E: Engine> Learner<E> {
 fn guidance<E: Engine>(
     engine: &E,
     config: &TrainConfig,
+    g: &GuidanceConfig,
     networks: &Networks,
     learned: &GuidanceState,
     demos: Option<&Demonstrations>,
 ) -> Result<(Guidance<E>, CriticSet<E>), TrainError> {
-    let g = config.guidance.as_ref().expect("guidance");
     let critic_config = config.guidance_critic().expect("guidance has a critic");
     let nets = networks
         .guidance_critic

@@ -9,6 +9,7 @@
 
 use std::path::Path;
 
+use burn::module::Module;
 use logo_envs::{ResetPoint, RngState};
 use logo_nn::flat::params_to_vec;
 use logo_nn::{
@@ -128,8 +129,7 @@ impl LearnerState {
         let bad = |what: String| -> TrainError { format!("{}: {what}", path.display()).into() };
         let (config, record) = read_record(path, &ckpt, iterations).map_err(bad)?;
         let meta = &ckpt.meta;
-        let initial = Self::initial(&config, meta.obs_dim, meta.act_dim)?;
-        let networks = initial.networks.read(&ckpt)?;
+        let networks = Networks::init(&config, meta.obs_dim, meta.act_dim)?.read(&ckpt)?;
         let state = Self {
             iteration: record.iteration,
             samples: record.samples,
@@ -218,7 +218,7 @@ impl LearnerState {
     /// checkpoint can get that wrong).
     fn check_optimisers(&self) -> Result<(), String> {
         let networks = &self.networks;
-        let policy_len = params_to_vec(&networks.policy).len();
+        let policy_len = networks.policy.num_params();
         let mut adams = vec![("improvement.adam", &self.improvement.adam, policy_len)];
         let mut sets = vec![("critic_adam", &self.critic_adam, &networks.critic)];
         if let (Some(g), Some(nets)) = (&self.guidance, &networks.guidance_critic) {
@@ -233,13 +233,13 @@ impl LearnerState {
                 ));
             }
             for (adam, net) in set.iter().zip(nets) {
-                adams.push((name, adam, params_to_vec(net).len()));
+                adams.push((name, adam, net.num_params()));
             }
         }
         if let Some(g) = &self.guidance {
             adams.push(("guidance.adam", &g.update.adam, policy_len));
             if let (Some(adam), Some(d)) = (&g.discriminator_adam, &networks.discriminator) {
-                adams.push(("discriminator_adam", adam, params_to_vec(&d.net).len()));
+                adams.push(("discriminator_adam", adam, d.net.num_params()));
             }
         }
         for (name, adam, len) in adams {
