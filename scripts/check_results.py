@@ -50,6 +50,15 @@ holds seed*/ runs, and a .csv path is one run):
                                   exact as printed; interval ends within 0.05 (P) or 5%
                                   of the seeds' range (difference) of a bootstrap over
                                   independent resamples of A and B recomputed here
+  arms     rows=SPEC;SPEC;...     configurations against a baseline, a row each, columns
+                                  env | budget | configuration | seeds | IQM [95% CI] |
+                                  P(configuration > baseline) [95% CI] | IQM difference
+                                  [95% CI]; SPEC is GROUP@BUDGET:W (a baseline's row: the
+                                  last two cells "—") or GROUP>BASE@BUDGET:W, each seed's
+                                  value its mean of the W evaluations nearest BUDGET
+                                  (`logo summary --window W --at BUDGET --compare GROUP
+                                  BASE`); the seed count exact, each point exact as
+                                  printed, interval ends as in intervals and compare
   cells    rXcY=STAT@GROUP ...    single cells (X, Y 1-based over body rows and columns)
            [quoted=...]
   evals    runs=PATH;PATH;...     one row per run: its eval-20.txt (`logo eval` output),
@@ -533,6 +542,45 @@ def check_table(kind, opts, header, body):
             for c, stat, tolerance in ((2, probability_of_improvement, 0.05), (3, iqm_diff, 0.05 * spread)):
                 point = stat(xs, ys)
                 lo, hi = bootstrap_two(xs, ys, stat)
+                doc = numbers(row[c])
+                checked += 1
+                ok = len(doc) >= 3 and abs(doc[0][0] - point) <= 0.5 * doc[0][1] + 1e-9 and all(
+                    abs(d - e) <= tolerance + 0.5 * unit for (d, unit), e in zip(doc[1:3], (lo, hi))
+                )
+                if not ok:
+                    wrong.append((r + 1, header[c], row[c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
+    elif kind == "arms":
+        specs = opts["rows"].split(";")
+        if len(specs) != len(body):
+            raise SystemExit(f"arms: {len(specs)} row specs for {len(body)} rows")
+        for r, (spec, row) in enumerate(zip(specs, body)):
+            m = re.fullmatch(r"([^>@]+)(?:>([^@]+))?@([\d.]+[kM]?):(\d+)", spec)
+            if not m:
+                raise SystemExit(f"arms: row spec {spec!r} is not GROUP[>BASE]@BUDGET:W")
+            x, window = parse_samples(m.group(3)), int(m.group(4))
+            at = lambda group: [
+                v for v in (window_at(evaluations(rows), x, window) for rows in group_runs(group))
+                if v is not None
+            ]
+            xs = at(m.group(1))
+            compare(r, 3, str(len(xs)))
+            spread = max(xs) - min(xs)
+            cells = [(4, lambda u, v: iqm(u), 0.05 * spread)]
+            if m.group(2):
+                ys = at(m.group(2))
+                spread = max(xs + ys) - min(xs + ys)
+                cells += [(5, probability_of_improvement, 0.05),
+                          (6, lambda u, v: iqm(u) - iqm(v), 0.05 * spread)]
+            else:
+                ys = []
+                for c in (5, 6):
+                    checked += 1
+                    if row[c] != "—":
+                        wrong.append((r + 1, header[c], row[c], "— (the baseline)"))
+            for c, stat, tolerance in cells:
+                point = stat(xs, ys)
+                lo, hi = (bootstrap_two(xs, ys, stat) if ys else
+                          bootstrap_interval(xs, lambda v: stat(v, [])))
                 doc = numbers(row[c])
                 checked += 1
                 ok = len(doc) >= 3 and abs(doc[0][0] - point) <= 0.5 * doc[0][1] + 1e-9 and all(

@@ -190,6 +190,27 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
     assert!(apart.status.success(), "{text}");
     assert_eq!(labels, ["LOGO seed 0", "LOGO seed 1"], "{text}");
     assert!(first_table().all(|l| l.contains(" | 1 | ")), "{text}");
+    // --compare is repeatable: one table per pair, in the order given.
+    let pairs = logo(&[
+        "summary",
+        a_runs.to_str().unwrap(),
+        b_runs.to_str().unwrap(),
+        "--compare",
+        "a",
+        "b",
+        "--compare",
+        "b",
+        "a",
+    ]);
+    let text = String::from_utf8_lossy(&pairs.stdout);
+    let errors = String::from_utf8_lossy(&pairs.stderr);
+    assert!(pairs.status.success(), "{errors}");
+    let headers: Vec<&str> = text.lines().filter(|l| l.contains("| P(")).collect();
+    assert_eq!(headers.len(), 2, "{text}");
+    assert!(
+        headers[0].contains("P(a > b)") && headers[1].contains("P(b > a)"),
+        "{text}"
+    );
 
     for (name, runs) in [("b", 2)] {
         let seeds: Vec<Vec<Vec<String>>> = (0..runs)

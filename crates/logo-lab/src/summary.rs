@@ -60,8 +60,9 @@ pub struct SummaryArgs {
     reps: usize,
     /// Also compare configuration A with B at each budget: the probability that a seed of
     /// A improves on one of B, and the difference of their IQMs, with 95% intervals.
-    #[arg(long, num_args = 2, value_names = ["A", "B"])]
-    compare: Option<Vec<String>>,
+    /// Repeatable: one table per pair (e.g. every variant against LOGO).
+    #[arg(long, num_args = 2, value_names = ["A", "B"], action = clap::ArgAction::Append)]
+    compare: Vec<String>,
 }
 
 /// How a `--at` column reads a run.
@@ -266,7 +267,8 @@ pub fn run(args: &SummaryArgs) -> Result<()> {
     if let Some(table) = eval_json_table(&runs, &bootstrap)? {
         print!("\n{table}");
     }
-    if let Some([a, b]) = args.compare.as_deref() {
+    for pair in args.compare.chunks_exact(2) {
+        let (a, b) = (&pair[0], &pair[1]);
         print!(
             "\n{}",
             compare_table(&runs, a, b, &args.at, rule, &bootstrap)?
