@@ -65,6 +65,14 @@ COMPARE = """<!-- check compare window=10 groups=five-seeds-view/hopper/LOGO;fiv
 | at 2.00M, mean of 10 | 5 vs 5 | 1.00 [1.00, 1.00] | 1549 [896, 2207] |
 """
 
+# Arms against a baseline, each row at its own budget and window.
+ARMS = """<!-- check arms rows=five-seeds-view/walker2d/LOGO@10M:10;five-seeds-view/walker2d/LOGO+PPO+CDQ>five-seeds-view/walker2d/LOGO@10M:10 -->
+| env | budget | configuration | seeds | IQM [95% CI] | P(configuration > LOGO) [95% CI] | IQM difference [95% CI] |
+| --- | --- | --- | --- | --- | --- | --- |
+| Walker2d | 10M | LOGO | 5 | 2593 [1841, 3511] | — | — |
+| Walker2d | 10M | LOGO+PPO+CDQ | 5 | 507 [403, 1376] | 0.04 [0.00, 0.24] | -2086 [-2998, -940] |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -77,7 +85,7 @@ def check(text):
 
 def main():
     failures = []
-    goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE)
+    goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -100,6 +108,11 @@ def main():
         "a wrong IQM difference's interval": COMPARE.replace("[896, 2207]", "[500, 2207]"),
         "the groups compared the other way": COMPARE.replace(
             "LOGO;five-seeds-view/hopper/LOGO+PPO+CDQ", "LOGO+PPO+CDQ;five-seeds-view/hopper/LOGO"),
+        "an arm's wrong IQM": ARMS.replace("507 [", "517 ["),
+        "an arm's wrong seed count": ARMS.replace("| 5 | 507", "| 4 | 507"),
+        "a baseline row with a probability": ARMS.replace("| — | — |", "| 0.50 [0.00, 1.00] | — |"),
+        "an arm's wrong P interval": ARMS.replace("[0.00, 0.24]", "[0.00, 0.64]"),
+        "an arm at the wrong budget": ARMS.replace("LOGO@10M:10 -->", "LOGO@5M:10 -->"),
         "a wrong verdict": VERDICTS.replace("ahead (1677", "behind (1677"),
         "a wrong count of seeds above": VERDICTS.replace("2 of 3", "1 of 3"),
         "a wrong mean beside a verdict": VERDICTS.replace("2518 vs", "2600 vs"),
