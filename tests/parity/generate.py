@@ -23,13 +23,24 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-ENV_IDS = [
+LOGO_IDS = [
     "Hopper-v4", "Hopper-v5", "Walker2d-v4", "Walker2d-v5",
     "HalfCheetah-v4", "HalfCheetah-v5",
     "InvertedDoublePendulum-v4", "InvertedDoublePendulum-v5",
 ]
-# LOGO's sparse rules (docs/reference.md): distance threshold, or None = episode lump.
+# The other seven tasks (Pusher only -v5: Gymnasium 1.4.0 refuses Pusher-v4 under MuJoCo 3).
+OTHER_IDS = [
+    "Ant-v4", "Ant-v5", "Humanoid-v4", "Humanoid-v5",
+    "HumanoidStandup-v4", "HumanoidStandup-v5", "InvertedPendulum-v4", "InvertedPendulum-v5",
+    "Pusher-v5", "Reacher-v4", "Reacher-v5", "Swimmer-v4", "Swimmer-v5",
+]
+ENV_IDS = LOGO_IDS + OTHER_IDS
+# LOGO's sparse rules (docs/reference.md): distance threshold, or None = episode lump. The
+# tasks LOGO did not use have no LOGO rule; their "sparse_reward" is the episode lump.
 SPARSE_THRESHOLD = {"Hopper": 2.0, "Walker2d": 2.0, "HalfCheetah": 20.0, "InvertedDoublePendulum": None}
+# Steps recorded at most, where 1000 steps of a wide observation would bloat the fixtures
+# (truncation is covered by the tasks recorded to 1000).
+MAX_STEPS = {"Ant": 300, "Humanoid": 300, "HumanoidStandup": 60}
 # Per trajectory: the name, the noise scale of the initial state, the action generator.
 TRAJECTORIES = ["random", "saturating", "gentle"]
 ARRAYS = ["actions", "obs", "reward", "sparse_reward", "sparse_reward_low",
@@ -71,13 +82,18 @@ def record(env_id, kind, seed):
     env.reset(seed=seed)
     base = env.unwrapped
     rng = np.random.default_rng(seed)
-    scale = 0.1 if env_id.startswith(("HalfCheetah", "InvertedDoublePendulum")) else 0.005
-    qpos0 = base.init_qpos + rng.uniform(-scale, scale, size=base.model.nq)
-    qvel0 = base.init_qvel + rng.uniform(-scale, scale, size=base.model.nv)
-    base.set_state(qpos0, qvel0)
+    task = env_id.split("-")[0]
+    if env_id in LOGO_IDS:
+        scale = 0.1 if env_id.startswith(("HalfCheetah", "InvertedDoublePendulum")) else 0.005
+        qpos0 = base.init_qpos + rng.uniform(-scale, scale, size=base.model.nq)
+        qvel0 = base.init_qvel + rng.uniform(-scale, scale, size=base.model.nv)
+        base.set_state(qpos0, qvel0)
+    else:
+        # The task's own reset (Reacher's target and Pusher's object placed as it does).
+        qpos0, qvel0 = base.data.qpos.copy(), base.data.qvel.copy()
     low, high = base.model.actuator_ctrlrange.T.astype(np.float64)
-    actions = actions_for(kind, rng, low, high, 1000)
-    sparse = LogoSparse(SPARSE_THRESHOLD[env_id.split("-")[0]])
+    actions = actions_for(kind, rng, low, high, MAX_STEPS.get(task, 1000))
+    sparse = LogoSparse(SPARSE_THRESHOLD.get(task))
     sparse.start(float(base.data.qpos[0]))
 
     out = {k: [] for k in ARRAYS}
@@ -122,7 +138,8 @@ def build(env_id):
         trajectories.append(meta)
     manifest = {
         "env_id": env_id,
-        "sparse_threshold": SPARSE_THRESHOLD[env_id.split("-")[0]],
+        "sparse_threshold": SPARSE_THRESHOLD.get(env_id.split("-")[0]),
+        "logo_sparse": env_id in LOGO_IDS,
         "generator": f"gymnasium {gym.__version__}, numpy {np.__version__}",
         "trajectories": trajectories,
     }

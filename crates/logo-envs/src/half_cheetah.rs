@@ -3,7 +3,7 @@
 
 use crate::env::Version;
 use crate::hopper::locomotion_reward;
-use crate::mujoco_env::{Data, ResetNoise, Task};
+use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
 
 /// Planar cheetah: obs = qpos[1:] ‖ qvel (17, velocities not clipped),
 /// reward = v_x − 0.1‖a‖², never terminates.
@@ -33,8 +33,8 @@ impl Task for HalfCheetah {
         obs[..qpos.len()].copy_from_slice(qpos);
         obs[qpos.len()..].copy_from_slice(qvel);
     }
-    fn reward(&self, data: &Data, x_before: f64, dt: f64, action: &[f64]) -> (f64, bool) {
-        let x_velocity = (data.qpos()[0] - x_before) / dt;
+    fn reward(&self, data: &Data, before: BeforeStep, dt: f64, action: &[f64]) -> (f64, bool) {
+        let x_velocity = (data.qpos()[0] - before.x) / dt;
         (locomotion_reward(x_velocity, 0.0, 0.1, action), false)
     }
 }

@@ -1,7 +1,7 @@
 //! Hopper, as Gymnasium 1.4.0's `hopper_v4.py` / `hopper_v5.py` compute it.
 
 use crate::env::Version;
-use crate::mujoco_env::{Data, ResetNoise, Task};
+use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
 
 /// One-legged hopper: obs = qpos[1:] ‖ clip(qvel, ±10) (11), reward = v_x + healthy − 1e-3‖a‖².
 #[derive(Debug, Clone, Copy)]
@@ -60,8 +60,8 @@ impl Task for Hopper {
     fn observe(&self, data: &Data, obs: &mut [f64]) {
         observe_clipped(data, obs);
     }
-    fn reward(&self, data: &Data, x_before: f64, dt: f64, action: &[f64]) -> (f64, bool) {
-        let x_velocity = (data.qpos()[0] - x_before) / dt;
+    fn reward(&self, data: &Data, before: BeforeStep, dt: f64, action: &[f64]) -> (f64, bool) {
+        let x_velocity = (data.qpos()[0] - before.x) / dt;
         let healthy = is_healthy(data);
         // v4 pays the healthy bonus on the terminating step too; v5 does not.
         let healthy_reward = match self.version {

@@ -2,7 +2,7 @@
 //! `inverted_double_pendulum_v5.py` compute it.
 
 use crate::env::Version;
-use crate::mujoco_env::{Data, ResetNoise, Task};
+use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
 
 /// Cart with a two-link pole. obs = [x, sin θ, cos θ, clip(qvel, ±10), clip(qfrc_constraint, ±10)]
 /// (v4: 11 dims; v5 keeps only qfrc_constraint[0]: 9 dims). Reward = 10 − 0.01x² − (y−2)²
@@ -56,7 +56,7 @@ impl Task for InvertedDoublePendulum {
             k += 1;
         }
     }
-    fn reward(&self, data: &Data, _x_before: f64, _dt: f64, _action: &[f64]) -> (f64, bool) {
+    fn reward(&self, data: &Data, _: BeforeStep, _dt: f64, _action: &[f64]) -> (f64, bool) {
         let [x, _, y] = data.site_xpos()[0];
         let terminated = y <= 1.0;
         let dist_penalty = 0.01 * (x * x) + (y - 2.0) * (y - 2.0);

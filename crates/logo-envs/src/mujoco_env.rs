@@ -28,8 +28,27 @@ pub fn models_dir() -> PathBuf {
 pub enum ResetNoise {
     /// qpos and qvel each += U(-scale, scale) (Hopper, Walker2d).
     Uniform { scale: f64 },
-    /// qpos += U(-scale, scale), qvel += scale * N(0, 1) (HalfCheetah, InvertedDoublePendulum).
+    /// qpos += U(-scale, scale), qvel += scale * N(0, 1) (HalfCheetah, InvertedDoublePendulum, Ant).
     UniformPosNormalVel { scale: f64 },
+    /// Reacher's: qpos += U(-0.1, 0.1); the target (the last two qpos) drawn in pairs from
+    /// U(-0.2, 0.2)² until inside the disk of radius 0.2; qvel += U(-0.005, 0.005) with
+    /// the target's two at 0.
+    ReacherTarget,
+    /// Pusher's: qpos as the model has it, but the object's two slides (qpos[7], qpos[8])
+    /// drawn as U(-0.3, 0) and U(-0.2, 0.2) until more than 0.17 from the goal; qvel +=
+    /// U(-0.005, 0.005) with the object's and goal's four at 0.
+    PusherObject,
+}
+
+/// What a task reads from the state before a step's simulation.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct BeforeStep {
+    /// The position the forward reward differentiates: `qpos[0]` unless the task says
+    /// otherwise (Ant: the torso body's x, Humanoid: the mass centre's).
+    pub x: f64,
+    /// The reward of a task that pays for the state before the step (Reacher-v4,
+    /// Pusher-v4 compute it before simulating); else 0.
+    pub reward: f64,
 }
 
 /// What makes one environment different from another: implement this for a new MJCF model.
@@ -42,11 +61,55 @@ pub trait Task: Send + Sync + 'static {
     fn frame_skip(&self) -> usize;
     fn obs_dim(&self) -> usize;
     fn reset_noise(&self) -> ResetNoise;
+    /// Gymnasium's registered time limit.
+    fn max_episode_steps(&self) -> usize {
+        1000
+    }
     /// Writes the observation of the current state.
     fn observe(&self, data: &Data, obs: &mut [f64]);
-    /// Reward and termination of the step that just ran. `x_before` is `qpos[0]` before it,
-    /// `dt` the env step's duration, `action` the action as given (not clamped).
-    fn reward(&self, data: &Data, x_before: f64, dt: f64, action: &[f64]) -> (f64, bool);
+    /// What the reward needs from the state before the step (Gymnasium reads it before
+    /// `do_simulation`, from the data the last step or reset left).
+    fn before_step(&self, data: &Data, _action: &[f64]) -> BeforeStep {
+        BeforeStep {
+            x: data.qpos()[0],
+            reward: 0.0,
+        }
+    }
+    /// Reward and termination of the step that just ran. `before` is what
+    /// [`Task::before_step`] read, `dt` the env step's duration, `action` the action as
+    /// given (not clamped).
+    fn reward(&self, data: &Data, before: BeforeStep, dt: f64, action: &[f64]) -> (f64, bool);
+}
+
+/// A boxed task is a task: the registry picks one per id at run time.
+impl Task for Box<dyn Task> {
+    fn id(&self) -> String {
+        (**self).id()
+    }
+    fn model_file(&self) -> &'static str {
+        (**self).model_file()
+    }
+    fn frame_skip(&self) -> usize {
+        (**self).frame_skip()
+    }
+    fn obs_dim(&self) -> usize {
+        (**self).obs_dim()
+    }
+    fn reset_noise(&self) -> ResetNoise {
+        (**self).reset_noise()
+    }
+    fn max_episode_steps(&self) -> usize {
+        (**self).max_episode_steps()
+    }
+    fn observe(&self, data: &Data, obs: &mut [f64]) {
+        (**self).observe(data, obs);
+    }
+    fn before_step(&self, data: &Data, action: &[f64]) -> BeforeStep {
+        (**self).before_step(data, action)
+    }
+    fn reward(&self, data: &Data, before: BeforeStep, dt: f64, action: &[f64]) -> (f64, bool) {
+        (**self).reward(data, before, dt, action)
+    }
 }
 
 /// A MuJoCo environment: one [`Task`] over one `MjData`.
@@ -157,6 +220,54 @@ impl<T: Task> MujocoEnv<T> {
         &self.data
     }
 
+    /// Reacher's reset draws, in Gymnasium's order: qpos noise, the target until it lies
+    /// in the reachable disk, then qvel noise.
+    fn reacher_reset(&mut self) {
+        let (qpos, qvel, rng) = (
+            &mut self.scratch_qpos,
+            &mut self.scratch_qvel,
+            &mut self.rng,
+        );
+        for (q, q0) in qpos.iter_mut().zip(&self.init_qpos) {
+            *q = rng.random_range(-0.1..0.1) + q0;
+        }
+        let target = loop {
+            let goal: [f64; 2] = [rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2)];
+            if goal[0].hypot(goal[1]) < 0.2 {
+                break goal;
+            }
+        };
+        let n = qpos.len();
+        qpos[n - 2..].copy_from_slice(&target);
+        for (v, v0) in qvel.iter_mut().zip(&self.init_qvel) {
+            *v = v0 + rng.random_range(-0.005..0.005);
+        }
+        qvel[n - 2..].fill(0.0);
+    }
+
+    /// Pusher's reset draws: the object's place away from the goal, then qvel noise.
+    fn pusher_reset(&mut self) {
+        let (qpos, qvel, rng) = (
+            &mut self.scratch_qpos,
+            &mut self.scratch_qvel,
+            &mut self.rng,
+        );
+        qpos.copy_from_slice(&self.init_qpos);
+        let object = loop {
+            let place: [f64; 2] = [rng.random_range(-0.3..0.0), rng.random_range(-0.2..0.2)];
+            if place[0].hypot(place[1]) > 0.17 {
+                break place;
+            }
+        };
+        let n = qpos.len();
+        qpos[n - 4..n - 2].copy_from_slice(&object);
+        qpos[n - 2..].fill(0.0);
+        for (v, v0) in qvel.iter_mut().zip(&self.init_qvel) {
+            *v = v0 + rng.random_range(-0.005..0.005);
+        }
+        qvel[n - 4..].fill(0.0);
+    }
+
     /// Gymnasium's `set_state`: copies the scratch qpos/qvel in, then `mj_forward`.
     fn write_scratch_state(&mut self) {
         self.data.qpos_mut().copy_from_slice(&self.scratch_qpos);
@@ -194,6 +305,8 @@ impl<T: Task> Env for MujocoEnv<T> {
                     *v = v0 + scale * n;
                 }
             }
+            ResetNoise::ReacherTarget => self.reacher_reset(),
+            ResetNoise::PusherObject => self.pusher_reset(),
         }
         self.write_scratch_state();
         self.elapsed_steps = 0;
@@ -228,14 +341,14 @@ impl<T: Task> Env for MujocoEnv<T> {
             });
         }
 
-        let x_before = self.data.qpos()[0];
+        let before = self.task.before_step(&self.data, action);
         self.data.ctrl_mut().copy_from_slice(action);
         for _ in 0..self.task.frame_skip() {
             self.data.step();
         }
         self.data.rne_post_constraint();
 
-        let (reward, terminated) = self.task.reward(&self.data, x_before, self.spec.dt, action);
+        let (reward, terminated) = self.task.reward(&self.data, before, self.spec.dt, action);
         self.task.observe(&self.data, obs);
         self.elapsed_steps += 1;
         let truncated = self.elapsed_steps >= self.spec.max_episode_steps;

@@ -9,12 +9,16 @@ use crate::env::{Env, EnvError, EnvSpec, Version};
 use crate::external::{EnvMaker, external};
 use crate::mujoco_env::{MujocoEnv, Task, load_model};
 use crate::sparse::{SparseReward, SparseRule};
-use crate::{HalfCheetah, Hopper, InvertedDoublePendulum, Walker2d};
+use crate::{
+    Ant, HalfCheetah, Hopper, Humanoid, HumanoidStandup, InvertedDoublePendulum, InvertedPendulum,
+    Pusher, Reacher, Swimmer, Walker2d,
+};
 
-/// The dense environments. Each also exists as `Sparse<id>` (e.g. `SparseHopper-v4`),
-/// with LOGO's rule for that task, and as `<id>+<rule>` with any [`SparseRule`]
-/// (`Hopper-v4+distance(5)`, `HalfCheetah-v4+delayed`).
-pub const BASE_ENV_IDS: [&str; 8] = [
+/// The dense environments: Gymnasium 1.4.0's eleven MuJoCo tasks, `-v4` and `-v5`
+/// (Pusher only `-v5`: Gymnasium refuses `Pusher-v4` under MuJoCo 3). Each is made sparse
+/// as `<id>+<rule>` with any [`SparseRule`] (`Ant-v4+distance(5)`, `HalfCheetah-v4+delayed`);
+/// LOGO's four tasks also as `Sparse<id>` (e.g. `SparseHopper-v4`), with LOGO's rule.
+pub const BASE_ENV_IDS: [&str; 21] = [
     "Hopper-v4",
     "Hopper-v5",
     "Walker2d-v4",
@@ -23,32 +27,41 @@ pub const BASE_ENV_IDS: [&str; 8] = [
     "HalfCheetah-v5",
     "InvertedDoublePendulum-v4",
     "InvertedDoublePendulum-v5",
+    "Ant-v4",
+    "Ant-v5",
+    "Humanoid-v4",
+    "Humanoid-v5",
+    "HumanoidStandup-v4",
+    "HumanoidStandup-v5",
+    "InvertedPendulum-v4",
+    "InvertedPendulum-v5",
+    "Pusher-v5",
+    "Reacher-v4",
+    "Reacher-v5",
+    "Swimmer-v4",
+    "Swimmer-v5",
 ];
 
-/// Every id [`make`] accepts by name: the dense ones, then their LOGO sparse versions.
+/// Every id [`make`] accepts by name: the dense ones, then LOGO's sparse versions.
 pub fn all_env_ids() -> Vec<String> {
     let dense = BASE_ENV_IDS.iter().map(|id| id.to_string());
-    let sparse = BASE_ENV_IDS.iter().map(|id| format!("Sparse{id}"));
+    let sparse = BASE_ENV_IDS
+        .iter()
+        .filter(|id| parse_id(id).is_ok_and(|(kind, ..)| kind.logo_rule().is_some()))
+        .map(|id| format!("Sparse{id}"));
     dense.chain(sparse).collect()
 }
 
 /// Options every env id takes.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct EnvOptions {
-    /// Gymnasium registers all four tasks with 1000.
-    pub max_episode_steps: usize,
+    /// Steps after which an episode is truncated; `None`: the limit Gymnasium registers
+    /// the task with (1000; Reacher 50, Pusher 100).
+    pub max_episode_steps: Option<usize>,
     /// Makes a dense id's reward sparse by this rule (a config's `[env.sparse]`).
     pub sparse: Option<SparseRule>,
 }
 
-impl Default for EnvOptions {
-    fn default() -> Self {
-        Self {
-            max_episode_steps: 1000,
-            sparse: None,
-        }
-    }
-}
 
 #[derive(Debug, Clone, Copy)]
 enum Kind {
@@ -56,6 +69,13 @@ enum Kind {
     Walker2d,
     HalfCheetah,
     InvertedDoublePendulum,
+    Ant,
+    Humanoid,
+    HumanoidStandup,
+    InvertedPendulum,
+    Pusher,
+    Reacher,
+    Swimmer,
 }
 
 /// Builds copies of one env id over a model loaded once (`MjModel` is shared, read-only),
@@ -115,19 +135,60 @@ fn parse_id(id: &str) -> Result<(Kind, Version, Option<SparseRule>), EnvError> {
         "Walker2d" => Kind::Walker2d,
         "HalfCheetah" => Kind::HalfCheetah,
         "InvertedDoublePendulum" => Kind::InvertedDoublePendulum,
+        "Ant" => Kind::Ant,
+        "Humanoid" => Kind::Humanoid,
+        "HumanoidStandup" => Kind::HumanoidStandup,
+        "InvertedPendulum" => Kind::InvertedPendulum,
+        "Pusher" if version == Version::V4 => {
+            return Err(EnvError::InvalidOption(format!(
+                "{id}: Gymnasium 1.4.0 refuses Pusher-v4 under MuJoCo 3, so there is no \
+                 reference to match it to; use Pusher-v5"
+            )));
+        }
+        "Pusher" => Kind::Pusher,
+        "Reacher" => Kind::Reacher,
+        "Swimmer" => Kind::Swimmer,
         _ => return Err(unknown(id)),
     };
-    let rule = rule.map(|named| named.unwrap_or_else(|| kind.logo_rule()));
+    let rule = match rule {
+        None => None,
+        Some(Some(named)) => Some(named),
+        Some(None) => Some(kind.logo_rule().ok_or_else(|| {
+            EnvError::InvalidOption(format!(
+                "{id}: LOGO has no sparse version of {name}; give the dense id {base} with \
+                 an [env.sparse] kind (`logo envs` lists them), e.g. {base}+distance(5)"
+            ))
+        })?),
+    };
     Ok((kind, version, rule))
 }
 
 impl Kind {
-    /// The sparse rule of LOGO's version of the task (its `Sparse<id>`).
-    fn logo_rule(self) -> SparseRule {
+    /// The sparse rule of LOGO's version of the task (its `Sparse<id>`); the tasks LOGO
+    /// did not use have none.
+    fn logo_rule(self) -> Option<SparseRule> {
         match self {
-            Kind::Hopper | Kind::Walker2d => SparseRule::Distance { threshold: 2.0 },
-            Kind::HalfCheetah => SparseRule::Distance { threshold: 20.0 },
-            Kind::InvertedDoublePendulum => SparseRule::Delayed,
+            Kind::Hopper | Kind::Walker2d => Some(SparseRule::Distance { threshold: 2.0 }),
+            Kind::HalfCheetah => Some(SparseRule::Distance { threshold: 20.0 }),
+            Kind::InvertedDoublePendulum => Some(SparseRule::Delayed),
+            _ => None,
+        }
+    }
+
+    /// The task as the MuJoCo loop runs it.
+    fn task(self, version: Version) -> Box<dyn Task> {
+        match self {
+            Kind::Hopper => Box::new(Hopper { version }),
+            Kind::Walker2d => Box::new(Walker2d { version }),
+            Kind::HalfCheetah => Box::new(HalfCheetah { version }),
+            Kind::InvertedDoublePendulum => Box::new(InvertedDoublePendulum { version }),
+            Kind::Ant => Box::new(Ant { version }),
+            Kind::Humanoid => Box::new(Humanoid { version }),
+            Kind::HumanoidStandup => Box::new(HumanoidStandup { version }),
+            Kind::InvertedPendulum => Box::new(InvertedPendulum { version }),
+            Kind::Pusher => Box::new(Pusher { version }),
+            Kind::Reacher => Box::new(Reacher { version }),
+            Kind::Swimmer => Box::new(Swimmer { version }),
         }
     }
 }
@@ -173,7 +234,7 @@ pub fn sparse_id(dense: &str, rule: SparseRule) -> Result<String, EnvError> {
 }
 
 fn sparse_name(dense: &str, kind: Kind, rule: SparseRule) -> String {
-    if kind.logo_rule() == rule {
+    if kind.logo_rule() == Some(rule) {
         format!("Sparse{dense}")
     } else {
         format!("{dense}+{}", rule.describe())
@@ -186,7 +247,7 @@ impl EnvFactory {
             return Self::external(maker?, options);
         }
         let (kind, version, named_rule) = parse_id(id)?;
-        if options.max_episode_steps == 0 {
+        if options.max_episode_steps == Some(0) {
             return Err(EnvError::InvalidOption(
                 "max_episode_steps must be at least 1".into(),
             ));
@@ -203,13 +264,7 @@ impl EnvFactory {
         if let Some(rule) = &sparse {
             rule.validate().map_err(EnvError::InvalidOption)?;
         }
-        let model_file = match kind {
-            Kind::Hopper => Hopper { version }.model_file(),
-            Kind::Walker2d => Walker2d { version }.model_file(),
-            Kind::HalfCheetah => HalfCheetah { version }.model_file(),
-            Kind::InvertedDoublePendulum => InvertedDoublePendulum { version }.model_file(),
-        };
-        let model = load_model(model_file)?;
+        let model = load_model(kind.task(version).model_file())?;
         let spec = build_env(kind, version, sparse, &model, options.max_episode_steps)
             .spec()
             .clone();
@@ -295,38 +350,16 @@ fn build_env(
     version: Version,
     sparse: Option<SparseRule>,
     model: &Arc<MjModel>,
-    max_episode_steps: usize,
+    max_episode_steps: Option<usize>,
 ) -> Box<dyn Env> {
-    fn finish<T: Task>(env: MujocoEnv<T>, kind: Kind, sparse: Option<SparseRule>) -> Box<dyn Env> {
-        match sparse {
-            Some(rule) => {
-                let id = sparse_name(&env.spec().id, kind, rule);
-                Box::new(SparseReward::new(env, rule, id))
-            }
-            None => Box::new(env),
+    let task = kind.task(version);
+    let steps = max_episode_steps.unwrap_or_else(|| task.max_episode_steps());
+    let env = MujocoEnv::with_model(task, model.clone(), steps);
+    match sparse {
+        Some(rule) => {
+            let id = sparse_name(&env.spec().id, kind, rule);
+            Box::new(SparseReward::new(env, rule, id))
         }
-    }
-    let (model, steps) = (model.clone(), max_episode_steps);
-    match kind {
-        Kind::Hopper => finish(
-            MujocoEnv::with_model(Hopper { version }, model, steps),
-            kind,
-            sparse,
-        ),
-        Kind::Walker2d => finish(
-            MujocoEnv::with_model(Walker2d { version }, model, steps),
-            kind,
-            sparse,
-        ),
-        Kind::HalfCheetah => finish(
-            MujocoEnv::with_model(HalfCheetah { version }, model, steps),
-            kind,
-            sparse,
-        ),
-        Kind::InvertedDoublePendulum => finish(
-            MujocoEnv::with_model(InvertedDoublePendulum { version }, model, steps),
-            kind,
-            sparse,
-        ),
+        None => Box::new(env),
     }
 }

@@ -2,7 +2,7 @@
 
 use crate::env::Version;
 use crate::hopper::{locomotion_reward, observe_clipped};
-use crate::mujoco_env::{Data, ResetNoise, Task};
+use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
 
 /// Two-legged walker: obs = qpos[1:] ‖ clip(qvel, ±10) (17), reward = v_x + healthy − 1e-3‖a‖².
 /// v5 loads `walker2d_v5.xml` (right foot friction 1.9 instead of 0.9).
@@ -39,8 +39,8 @@ impl Task for Walker2d {
     fn observe(&self, data: &Data, obs: &mut [f64]) {
         observe_clipped(data, obs);
     }
-    fn reward(&self, data: &Data, x_before: f64, dt: f64, action: &[f64]) -> (f64, bool) {
-        let x_velocity = (data.qpos()[0] - x_before) / dt;
+    fn reward(&self, data: &Data, before: BeforeStep, dt: f64, action: &[f64]) -> (f64, bool) {
+        let x_velocity = (data.qpos()[0] - before.x) / dt;
         let healthy = is_healthy(data);
         let healthy_reward = match self.version {
             Version::V4 => 1.0,

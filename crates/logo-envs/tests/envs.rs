@@ -77,7 +77,7 @@ fn the_time_limit_truncates_and_does_not_terminate() {
     let factory = EnvFactory::new(
         "HalfCheetah-v4",
         &EnvOptions {
-            max_episode_steps: 5,
+            max_episode_steps: Some(5),
             ..Default::default()
         },
     )
@@ -188,7 +188,7 @@ fn unknown_ids_and_bad_options_name_the_problem() {
         "{err}"
     );
     let bad = EnvOptions {
-        max_episode_steps: 0,
+        max_episode_steps: Some(0),
         ..Default::default()
     };
     assert!(
@@ -387,9 +387,71 @@ fn env_config_from_toml() {
         "{err}"
     );
     assert!(
-        EnvConfig::named("Ant-v4")
+        EnvConfig::named("Ant-v3")
             .validate("eval_env")
             .unwrap_err()
             .contains("unknown environment id")
     );
+    // LOGO made four tasks sparse; the others take a kind, and Pusher-v4 has no oracle.
+    let no_logo = EnvConfig::named("SparseAnt-v4")
+        .validate("env")
+        .unwrap_err();
+    assert!(
+        no_logo.contains("no sparse version of Ant") && no_logo.contains("Ant-v4+distance"),
+        "{no_logo}"
+    );
+    let pusher = EnvConfig::named("Pusher-v4").validate("env").unwrap_err();
+    assert!(pusher.contains("Pusher-v5"), "{pusher}");
+    EnvConfig::named("Ant-v4+distance(5)")
+        .validate("env")
+        .unwrap();
+}
+
+/// The goal tasks place their targets as Gymnasium does: Reacher's inside the arm's disk of
+/// radius 0.2, Pusher's object more than 0.17 from the goal, both at rest; Reacher's
+/// episodes last 50 steps, Pusher's 100.
+#[test]
+fn goal_tasks_place_their_targets_as_gymnasium_does() {
+    for (id, limit) in [("Reacher-v4", 50), ("Reacher-v5", 50), ("Pusher-v5", 100)] {
+        let mut env = make(id).unwrap();
+        assert_eq!(env.spec().max_episode_steps, limit, "{id}");
+        let mut obs = vec![0.0; env.spec().obs_dim];
+        let mut places = Vec::new();
+        for seed in 0..200 {
+            env.reset(Some(seed), &mut obs);
+            let (qpos, qvel) = env.state();
+            let n = qpos.len();
+            if id.starts_with("Reacher") {
+                let target = [qpos[n - 2], qpos[n - 1]];
+                assert!(
+                    target[0].hypot(target[1]) < 0.2,
+                    "{id} seed {seed}: {target:?}"
+                );
+                assert_eq!(&qvel[n - 2..], [0.0, 0.0], "{id}");
+                places.push(target);
+            } else {
+                let object = [qpos[n - 4], qpos[n - 3]];
+                assert!(
+                    object[0].hypot(object[1]) > 0.17,
+                    "{id} seed {seed}: {object:?}"
+                );
+                assert!((-0.3..0.0).contains(&object[0]) && (-0.2..0.2).contains(&object[1]));
+                assert_eq!(
+                    &qpos[..7],
+                    [0.0; 7],
+                    "{id}: the arm starts at rest, unperturbed"
+                );
+                assert_eq!(&qvel[n - 4..], [0.0; 4], "{id}");
+                places.push(object);
+            }
+        }
+        // Spread over the region, not one place.
+        let spread = |k: usize| {
+            let (lo, hi) = places.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+                (lo.min(p[k]), hi.max(p[k]))
+            });
+            hi - lo
+        };
+        assert!(spread(0) > 0.2 && spread(1) > 0.2, "{id}: {places:?}");
+    }
 }

@@ -16,13 +16,14 @@ pub fn env_ids() -> Vec<String> {
 
 /// The factory of a Rust env for Python. A `python:` id names an env a training run
 /// registered: its copies are the trainer's, and from Python it is used as itself.
-pub(crate) fn factory(id: &str, max_episode_steps: usize) -> PyResult<EnvFactory> {
+/// `max_episode_steps`: `None` for the limit Gymnasium registers the task with.
+pub(crate) fn factory(id: &str, max_episode_steps: Option<usize>) -> PyResult<EnvFactory> {
     if id.starts_with(logo_envs::EXTERNAL_PREFIX) {
         return Err(PyValueError::new_err(format!(
             "{id}: a Python env is used as itself from Python, not through logo_rl's Rust envs"
         )));
     }
-    if max_episode_steps == 0 {
+    if max_episode_steps == Some(0) {
         return Err(PyValueError::new_err(
             "max_episode_steps must be at least 1",
         ));
@@ -52,8 +53,8 @@ fn f64s<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
 impl RustEnv {
     /// `id`: any id of `logo envs`, also `<dense id>+<rule>` (`Hopper-v4+distance(5)`).
     #[new]
-    #[pyo3(signature = (id, max_episode_steps = 1000))]
-    fn new(id: &str, max_episode_steps: usize) -> PyResult<Self> {
+    #[pyo3(signature = (id, max_episode_steps = None))]
+    fn new(id: &str, max_episode_steps: Option<usize>) -> PyResult<Self> {
         let factory = factory(id, max_episode_steps)?;
         let env = factory.build().map_err(env_error)?;
         let obs = vec![0.0; factory.spec().obs_dim];

@@ -36,13 +36,13 @@ fn rows<'py>(py: Python<'py>, values: &[f64], width: usize) -> PyResult<Bound<'p
 impl RustVecEnv {
     /// `num_envs` copies of `id` on `threads` threads; copy i first reset with seed `seed + i`.
     #[new]
-    #[pyo3(signature = (id, num_envs, threads, seed = 0, max_episode_steps = 1000))]
+    #[pyo3(signature = (id, num_envs, threads, seed = 0, max_episode_steps = None))]
     fn new(
         id: &str,
         num_envs: usize,
         threads: usize,
         seed: u64,
-        max_episode_steps: usize,
+        max_episode_steps: Option<usize>,
     ) -> PyResult<Self> {
         let factory = factory(id, max_episode_steps)?;
         let venv = VecEnv::new(&factory, num_envs, threads, seed).map_err(env_error)?;

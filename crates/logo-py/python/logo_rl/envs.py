@@ -34,16 +34,21 @@ class LogoEnv(gym.Env):
     def __init__(
         self,
         env_id: str,
-        max_episode_steps: int | None = 1000,
+        max_episode_steps: int | None | str = "task",
         render_mode: str | None = None,
         width: int = DEFAULT_SIZE,
         height: int = DEFAULT_SIZE,
     ):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode={render_mode!r}: logo_rl envs render 'rgb_array' only")
-        # None: no limit of the env's own (gymnasium.make's TimeLimit, whatever
+        # "task": the limit Gymnasium registers the task with (1000; Reacher 50, Pusher
+        # 100). None: no limit of the env's own (gymnasium.make's TimeLimit, whatever
         # max_episode_steps it was given, ends the episodes).
-        self._env = RustEnv(env_id, NO_LIMIT if max_episode_steps is None else max_episode_steps)
+        if max_episode_steps == "task":
+            max_episode_steps = None
+        elif max_episode_steps is None:
+            max_episode_steps = NO_LIMIT
+        self._env = RustEnv(env_id, max_episode_steps)
         self.env_id = self._env.id
         self.render_mode = render_mode
         self.width, self.height = width, height
@@ -107,7 +112,7 @@ def register_envs() -> list[str]:
                 id=name,
                 entry_point="logo_rl.envs:LogoEnv",
                 kwargs={"env_id": env_id, "max_episode_steps": None},
-                max_episode_steps=1000,
+                max_episode_steps=RustEnv(env_id).max_episode_steps,
             )
         names.append(name)
     return names

@@ -30,7 +30,7 @@ class LogoVectorEnv(VectorEnv):
         env_id: str,
         num_envs: int,
         threads: int | None = None,
-        max_episode_steps: int = 1000,
+        max_episode_steps: int | None = None,
     ):
         threads = min(num_envs, os.cpu_count() or 1) if threads is None else threads
         self._venv = RustVecEnv(env_id, num_envs, threads, 0, max_episode_steps)
