@@ -3,6 +3,7 @@
 use crate::env::Version;
 use crate::hopper::locomotion_reward;
 use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
+use crate::numpy_sum::sum_of_squares;
 
 /// Body id of the torso in `ant.xml`: its frame's x is what the forward reward differentiates.
 const TORSO: usize = 1;
@@ -71,9 +72,8 @@ impl Task for Ant {
         let reward = match self.version {
             Version::V4 => locomotion_reward(x_velocity, 1.0, 0.5, action),
             Version::V5 => {
-                let ctrl_cost = 0.5 * action.iter().map(|a| a * a).sum::<f64>();
-                let contact_cost =
-                    5e-4 * clipped_contact_forces(data, 0).map(|f| f * f).sum::<f64>();
+                let ctrl_cost = 0.5 * sum_of_squares(action.iter().copied());
+                let contact_cost = 5e-4 * sum_of_squares(clipped_contact_forces(data, 0));
                 (x_velocity + f64::from(u8::from(healthy))) - (ctrl_cost + contact_cost)
             }
         };

@@ -3,6 +3,7 @@
 
 use crate::env::Version;
 use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
+use crate::numpy_sum::{numpy_sum, sum_of_squares};
 
 /// Humanoid's observation, the same for both tasks: qpos[2:] ‖ qvel ‖ cinert ‖ cvel ‖
 /// qfrc_actuator ‖ cfrc_ext, unclipped. v4 keeps every body's rows (the world's are
@@ -35,13 +36,12 @@ fn humanoid_obs_dim(version: Version) -> usize {
 /// 0.1‖ctrl‖²: the control cost of both tasks (Gymnasium squares `data.ctrl`, the action
 /// as given).
 fn control_cost(data: &Data) -> f64 {
-    0.1 * data.ctrl().iter().map(|a| a * a).sum::<f64>()
+    0.1 * sum_of_squares(data.ctrl().iter().copied())
 }
 
 /// 5e-7‖cfrc_ext‖², at most 10: the contact cost of Humanoid-v5 and both Standups.
 fn contact_cost(data: &Data) -> f64 {
-    let squares: f64 = data.cfrc_ext().iter().flatten().map(|f| f * f).sum();
-    (5e-7 * squares).min(10.0)
+    (5e-7 * sum_of_squares(data.cfrc_ext().iter().flatten().copied())).min(10.0)
 }
 
 /// Three-dimensional humanoid walking forward. reward = 1.25 v_x(mass centre) + 5 −
@@ -59,7 +59,7 @@ fn mass_centre_x(data: &Data) -> f64 {
         .iter()
         .zip(data.xipos())
         .fold(0.0, |sum, (m, x)| sum + m * x[0]);
-    moment / masses.iter().sum::<f64>()
+    moment / numpy_sum(masses)
 }
 
 impl Task for Humanoid {

@@ -21,6 +21,7 @@ mod humanoid;
 mod inverted_double_pendulum;
 mod inverted_pendulum;
 mod mujoco_env;
+mod numpy_sum;
 mod pusher;
 mod reacher;
 mod registry;

@@ -3,6 +3,7 @@
 
 use crate::env::Version;
 use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
+use crate::numpy_sum::sum_of_squares;
 
 /// Body ids in `pusher_v5.xml`.
 const TIPS_ARM: usize = 10;
@@ -53,7 +54,7 @@ impl Task for Pusher {
         let xpos = data.xpos();
         let near = -distance(xpos[OBJECT], xpos[TIPS_ARM]) * 0.5;
         let to_goal = -distance(xpos[OBJECT], xpos[GOAL]);
-        let control = -action.iter().map(|a| a * a).sum::<f64>() * 0.1;
+        let control = -sum_of_squares(action.iter().copied()) * 0.1;
         ((to_goal + control) + near, false)
     }
 }

@@ -2,6 +2,7 @@
 
 use crate::env::Version;
 use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
+use crate::numpy_sum::sum_of_squares;
 
 /// Body ids in `reacher.xml`.
 const FINGERTIP: usize = 3;
@@ -26,7 +27,7 @@ fn fingertip_to_target(data: &Data) -> [f64; 3] {
 fn reach_reward(data: &Data, action: &[f64]) -> f64 {
     let [dx, dy, dz] = fingertip_to_target(data);
     let distance = dz.mul_add(dz, dy.mul_add(dy, dx * dx)).sqrt();
-    -distance - action.iter().map(|a| a * a).sum::<f64>()
+    -distance - sum_of_squares(action.iter().copied())
 }
 
 impl Task for Reacher {

@@ -62,7 +62,6 @@ pub struct EnvOptions {
     pub sparse: Option<SparseRule>,
 }
 
-
 #[derive(Debug, Clone, Copy)]
 enum Kind {
     Hopper,
