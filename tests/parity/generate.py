@@ -17,6 +17,7 @@ Layout: OUT_DIR/<id>.json (manifest) and OUT_DIR/<id>.f64 (little-endian float64
 trajectory's arrays concatenated in the manifest's order at its offset).
 """
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -38,6 +39,8 @@ ENV_IDS = LOGO_IDS + OTHER_IDS
 # LOGO's sparse rules (docs/reference.md): distance threshold, or None = episode lump. The
 # tasks LOGO did not use have no LOGO rule; their "sparse_reward" is the episode lump.
 SPARSE_THRESHOLD = {"Hopper": 2.0, "Walker2d": 2.0, "HalfCheetah": 20.0, "InvertedDoublePendulum": None}
+# The tasks with a target, and the bodies whose distance in the plane the goal kind pays on.
+GOAL_BODIES = {"Reacher": ("fingertip", "target"), "Pusher": ("object", "goal")}
 # Steps recorded at most, where 1000 steps of a wide observation would bloat the fixtures
 # (truncation is covered by the tasks recorded to 1000).
 MAX_STEPS = {"Ant": 300, "Humanoid": 300, "HumanoidStandup": 60}
@@ -96,7 +99,9 @@ def record(env_id, kind, seed):
     sparse = LogoSparse(SPARSE_THRESHOLD.get(task))
     sparse.start(float(base.data.qpos[0]))
 
+    goal = GOAL_BODIES.get(task)
     out = {k: [] for k in ARRAYS}
+    goal_distances = []
     out["obs"].append(base._get_obs().copy())
     x_init = float(base.data.qpos[0])
     for a in actions:
@@ -108,6 +113,9 @@ def record(env_id, kind, seed):
         out["sparse_reward"].append(sparse.reward(float(reward), x, terminated or truncated))
         out["sparse_reward_low"].append(x)  # replaced below, once the threshold is known
         out["x_position"].append(x)
+        if goal:
+            a, b = (base.data.body(name).xpos for name in goal)
+            goal_distances.append(math.hypot(a[0] - b[0], a[1] - b[1]))
         out["terminated"].append(float(terminated))
         out["truncated"].append(float(truncated))
         if terminated or truncated:
@@ -123,6 +131,15 @@ def record(env_id, kind, seed):
     meta = {"name": kind, "seed": seed, "steps": len(out["reward"]),
             "qpos0": qpos0.tolist(), "qvel0": qvel0.tolist(),
             "low_threshold": low_threshold}
+    if goal:
+        # The goal kind (+1 while the distance is below a radius) at a radius halfway
+        # between two of this trajectory's distances near their median, so both branches
+        # occur and no distance lies on the boundary.
+        distinct = sorted(set(goal_distances))
+        k = len(distinct) // 2
+        radius = (distinct[k - 1] + distinct[k]) / 2
+        meta["goal_radius"] = radius
+        out["sparse_reward_goal"] = [1.0 if d < radius else 0.0 for d in goal_distances]
     return meta, {k: np.asarray(v, dtype="<f8") for k, v in out.items()}
 
 
@@ -131,7 +148,7 @@ def build(env_id):
     for i, kind in enumerate(TRAJECTORIES):
         meta, arrays = record(env_id, kind, seed=1000 + i)
         meta["arrays"] = {}
-        for k in ARRAYS:
+        for k in arrays:  # ARRAYS, then the goal kind's column where the task has one
             meta["arrays"][k] = {"offset": offset, "shape": list(arrays[k].shape)}
             offset += arrays[k].size
             blobs.append(arrays[k].ravel())

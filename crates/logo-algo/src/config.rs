@@ -359,6 +359,33 @@ impl TrainConfig {
         self.eval_env.as_ref().unwrap_or(&self.env)
     }
 
+    /// An `eval_env` must take the trained policy: the same observation and action dims as
+    /// `env`. Loads both models, so it is not part of [`Self::validate`].
+    pub fn check_eval_env_dims(&self) -> Result<(), String> {
+        let Some(eval_env) = &self.eval_env else {
+            return Ok(());
+        };
+        let spec = |env: &EnvConfig, key: &str| {
+            env.factory()
+                .map(|f| f.spec().clone())
+                .map_err(|e| format!("{key}: {e}"))
+        };
+        let (trained, evaluated) = (spec(&self.env, "env")?, spec(eval_env, "eval_env")?);
+        if (evaluated.obs_dim, evaluated.act_dim) != (trained.obs_dim, trained.act_dim) {
+            return Err(format!(
+                "eval_env {} does not have the dims of env {}: {} observations and {} actions \
+                 against {} and {}",
+                evaluated.id,
+                trained.id,
+                evaluated.obs_dim,
+                evaluated.act_dim,
+                trained.obs_dim,
+                trained.act_dim
+            ));
+        }
+        Ok(())
+    }
+
     /// The registry id of the task a person watches (videos, `logo eval`): `eval_env`,
     /// else the trained task's dense form.
     pub fn eval_env_id(&self) -> String {

@@ -168,6 +168,9 @@ pub fn run(args: &TrainArgs) -> Result<()> {
                 anyhow::ensure!(threads > 0, "--threads must be at least 1");
                 config.threads = threads;
             }
+            config
+                .check_eval_env_dims()
+                .map_err(|e| anyhow::anyhow!("{}: {e}", config_path.display()))?;
             let out = (args.out.clone()).unwrap_or_else(|| default_out(config_path, config.seed));
             Start::New(Box::new(config), out)
         }

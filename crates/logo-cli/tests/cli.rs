@@ -102,8 +102,16 @@ fn config_errors_name_the_file_and_the_key() {
         // The env as a table: an unknown sparse kind, a missing parameter, a rule on an
         // id that is sparse already, an id that is not one.
         (
-            env_table(TINY, "InvertedDoublePendulum-v4", "{ kind = \"goal\" }"),
-            "unknown sparse kind \"goal\"",
+            env_table(TINY, "InvertedDoublePendulum-v4", "{ kind = \"walk\" }"),
+            "unknown sparse kind \"walk\"",
+        ),
+        (
+            env_table(
+                TINY,
+                "InvertedDoublePendulum-v4",
+                "{ kind = \"goal\", radius = 0.1 }",
+            ),
+            "only Reacher and Pusher",
         ),
         (
             env_table(TINY, "InvertedDoublePendulum-v4", "{ kind = \"distance\" }"),
@@ -122,8 +130,12 @@ fn config_errors_name_the_file_and_the_key() {
             "env: unknown environment id \"Pendulum-v4\"",
         ),
         (
-            TINY.replace("iterations = 2", "iterations = 2\neval_env = \"Ant-v4\""),
+            TINY.replace("iterations = 2", "iterations = 2\neval_env = \"Ant-v3\""),
             "eval_env: unknown environment id",
+        ),
+        (
+            TINY.replace("iterations = 2", "iterations = 2\neval_env = \"Ant-v4\""),
+            "eval_env Ant-v4 does not have the dims of env",
         ),
     ];
     for (i, (text, key)) in cases.iter().enumerate() {

@@ -36,6 +36,9 @@ pub struct StepInfo {
     pub dense_reward: f64,
     /// `qpos[0]` after the step: the forward position for the locomotion tasks.
     pub x_position: f64,
+    /// Distance to the target in the plane, for the tasks with one (Reacher: fingertip to
+    /// target; Pusher: object to goal): what the goal kind pays on.
+    pub goal_distance: Option<f64>,
 }
 
 /// The result of one step. The observation goes into the caller's buffer.

@@ -79,6 +79,10 @@ pub trait Task: Send + Sync + 'static {
     /// [`Task::before_step`] read, `dt` the env step's duration, `action` the action as
     /// given (not clamped).
     fn reward(&self, data: &Data, before: BeforeStep, dt: f64, action: &[f64]) -> (f64, bool);
+    /// Distance to the task's target in the plane, for the tasks with one (the goal kind).
+    fn goal_distance(&self, _data: &Data) -> Option<f64> {
+        None
+    }
 }
 
 /// A boxed task is a task: the registry picks one per id at run time.
@@ -109,6 +113,9 @@ impl Task for Box<dyn Task> {
     }
     fn reward(&self, data: &Data, before: BeforeStep, dt: f64, action: &[f64]) -> (f64, bool) {
         (**self).reward(data, before, dt, action)
+    }
+    fn goal_distance(&self, data: &Data) -> Option<f64> {
+        (**self).goal_distance(data)
     }
 }
 
@@ -360,6 +367,7 @@ impl<T: Task> Env for MujocoEnv<T> {
             info: StepInfo {
                 dense_reward: reward,
                 x_position: self.data.qpos()[0],
+                goal_distance: self.task.goal_distance(&self.data),
             },
         })
     }

@@ -57,4 +57,8 @@ impl Task for Pusher {
         let control = -sum_of_squares(action.iter().copied()) * 0.1;
         ((to_goal + control) + near, false)
     }
+    fn goal_distance(&self, data: &Data) -> Option<f64> {
+        let (object, goal) = (data.xpos()[OBJECT], data.xpos()[GOAL]);
+        Some((object[0] - goal[0]).hypot(object[1] - goal[1]))
+    }
 }

@@ -85,4 +85,8 @@ impl Task for Reacher {
         };
         (reward, false)
     }
+    fn goal_distance(&self, data: &Data) -> Option<f64> {
+        let [dx, dy, _] = fingertip_to_target(data);
+        Some(dx.hypot(dy))
+    }
 }

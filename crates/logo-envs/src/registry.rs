@@ -151,7 +151,10 @@ fn parse_id(id: &str) -> Result<(Kind, Version, Option<SparseRule>), EnvError> {
     };
     let rule = match rule {
         None => None,
-        Some(Some(named)) => Some(named),
+        Some(Some(named)) => {
+            check_rule(id, kind, named)?;
+            Some(named)
+        }
         Some(None) => Some(kind.logo_rule().ok_or_else(|| {
             EnvError::InvalidOption(format!(
                 "{id}: LOGO has no sparse version of {name}; give the dense id {base} with \
@@ -228,8 +231,20 @@ pub fn sparse_id(dense: &str, rule: SparseRule) -> Result<String, EnvError> {
             "{dense} is already sparse"
         )));
     }
-    rule.validate().map_err(EnvError::InvalidOption)?;
+    check_rule(dense, kind, rule)?;
     Ok(sparse_name(dense, kind, rule))
+}
+
+/// A rule's parameters, and whether the task can pay it (the goal kind needs a target).
+fn check_rule(id: &str, kind: Kind, rule: SparseRule) -> Result<(), EnvError> {
+    rule.validate().map_err(EnvError::InvalidOption)?;
+    if matches!(rule, SparseRule::Goal { .. }) && !matches!(kind, Kind::Reacher | Kind::Pusher) {
+        return Err(EnvError::InvalidOption(format!(
+            "{id}: the goal kind pays for reaching a target, and only Reacher and Pusher have \
+             one; use distance or delayed"
+        )));
+    }
+    Ok(())
 }
 
 fn sparse_name(dense: &str, kind: Kind, rule: SparseRule) -> String {
@@ -260,8 +275,8 @@ impl EnvFactory {
             }
             (named, chosen) => named.or(chosen),
         };
-        if let Some(rule) = &sparse {
-            rule.validate().map_err(EnvError::InvalidOption)?;
+        if let Some(rule) = sparse {
+            check_rule(id, kind, rule)?;
         }
         let model = load_model(kind.task(version).model_file())?;
         let spec = build_env(kind, version, sparse, &model, options.max_episode_steps)

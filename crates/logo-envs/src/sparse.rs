@@ -20,10 +20,13 @@ pub enum SparseRule {
     /// The dense rewards accumulated and paid in one lump on the episode's last step
     /// (termination or time limit); 0 on every other step. LOGO's InvertedDoublePendulum.
     Delayed,
+    /// +1 on every step where the task's goal distance (Reacher: fingertip to target;
+    /// Pusher: object to goal; both in the plane of the table) is below `radius`, else 0.
+    Goal { radius: f64 },
 }
 
 /// Each kind, its parameters and what it pays, for `logo envs` and error messages.
-pub const SPARSE_KINDS: [(&str, &str, &str); 2] = [
+pub const SPARSE_KINDS: [(&str, &str, &str); 3] = [
     (
         "distance",
         "threshold (metres along x)",
@@ -33,6 +36,11 @@ pub const SPARSE_KINDS: [(&str, &str, &str); 2] = [
         "delayed",
         "-",
         "the episode's dense return, paid once on its last step",
+    ),
+    (
+        "goal",
+        "radius (metres, in the plane)",
+        "+1 on every step the fingertip (Reacher) or object (Pusher) is within the radius of its target",
     ),
 ];
 
@@ -44,17 +52,27 @@ struct RuleTable {
     kind: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     threshold: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    radius: Option<f64>,
 }
 
 impl TryFrom<RuleTable> for SparseRule {
     type Error = String;
     fn try_from(table: RuleTable) -> Result<Self, String> {
-        let rule = match (table.kind.as_str(), table.threshold) {
-            ("distance", Some(threshold)) => Self::Distance { threshold },
-            ("distance", None) => return Err("kind \"distance\" needs `threshold`".into()),
-            ("delayed", None) => Self::Delayed,
-            ("delayed", Some(_)) => return Err("kind \"delayed\" takes no `threshold`".into()),
-            (kind, _) => {
+        let rule = match (table.kind.as_str(), table.threshold, table.radius) {
+            ("distance", Some(threshold), None) => Self::Distance { threshold },
+            ("distance", None, _) => return Err("kind \"distance\" needs `threshold`".into()),
+            ("distance", _, Some(_)) => {
+                return Err("kind \"distance\" takes `threshold`, not `radius`".into());
+            }
+            ("delayed", None, None) => Self::Delayed,
+            ("delayed", ..) => return Err("kind \"delayed\" takes no `threshold`".into()),
+            ("goal", None, Some(radius)) => Self::Goal { radius },
+            ("goal", _, None) => return Err("kind \"goal\" needs `radius`".into()),
+            ("goal", Some(_), _) => {
+                return Err("kind \"goal\" takes `radius`, not `threshold`".into());
+            }
+            (kind, ..) => {
                 let known: Vec<&str> = SPARSE_KINDS.iter().map(|k| k.0).collect();
                 return Err(format!(
                     "unknown sparse kind {kind:?}; the kinds are {}",
@@ -69,13 +87,15 @@ impl TryFrom<RuleTable> for SparseRule {
 
 impl From<SparseRule> for RuleTable {
     fn from(rule: SparseRule) -> Self {
-        let (kind, threshold) = match rule {
-            SparseRule::Distance { threshold } => ("distance", Some(threshold)),
-            SparseRule::Delayed => ("delayed", None),
+        let (kind, threshold, radius) = match rule {
+            SparseRule::Distance { threshold } => ("distance", Some(threshold), None),
+            SparseRule::Delayed => ("delayed", None, None),
+            SparseRule::Goal { radius } => ("goal", None, Some(radius)),
         };
         Self {
             kind: kind.into(),
             threshold,
+            radius,
         }
     }
 }
@@ -87,6 +107,9 @@ impl SparseRule {
             Self::Distance { threshold } if !(threshold.is_finite() && threshold > 0.0) => Err(
                 format!("sparse.threshold must be a positive number of metres, got {threshold}"),
             ),
+            Self::Goal { radius } if !(radius.is_finite() && radius > 0.0) => Err(format!(
+                "sparse.radius must be a positive number of metres, got {radius}"
+            )),
             _ => Ok(()),
         }
     }
@@ -96,21 +119,27 @@ impl SparseRule {
         match self {
             Self::Distance { threshold } => format!("distance({threshold})"),
             Self::Delayed => "delayed".into(),
+            Self::Goal { radius } => format!("goal({radius})"),
         }
     }
 
     /// Reads [`SparseRule::describe`]'s form back.
     pub fn parse(text: &str) -> Result<Self, String> {
-        let expected = "expected distance(<metres>) or delayed";
+        let expected = "expected distance(<metres>), delayed or goal(<metres>)";
+        let metres = |kind: &str, rest: &str| -> Result<f64, String> {
+            let value = rest.strip_suffix(')').ok_or(expected)?;
+            value
+                .parse()
+                .map_err(|_| format!("{kind} {value:?} is not a number"))
+        };
         let rule = match text.split_once('(') {
             None if text == "delayed" => Self::Delayed,
-            Some(("distance", rest)) => {
-                let value = rest.strip_suffix(')').ok_or(expected)?;
-                let threshold = value
-                    .parse()
-                    .map_err(|_| format!("distance threshold {value:?} is not a number"))?;
-                Self::Distance { threshold }
-            }
+            Some(("distance", rest)) => Self::Distance {
+                threshold: metres("distance threshold", rest)?,
+            },
+            Some(("goal", rest)) => Self::Goal {
+                radius: metres("goal radius", rest)?,
+            },
             _ => return Err(format!("unknown sparse kind {text:?}: {expected}")),
         };
         rule.validate()?;
@@ -179,6 +208,11 @@ impl<E: Env> Env for SparseReward<E> {
                     0.0
                 }
             }
+            // The registry builds this rule only over a task with a goal distance.
+            SparseRule::Goal { radius } => match step.info.goal_distance {
+                Some(distance) if distance < radius => 1.0,
+                _ => 0.0,
+            },
         };
         Ok(step)
     }

@@ -225,7 +225,7 @@ fn unknown_ids_and_bad_options_name_the_problem() {
         ("Hopper-v4+distance(far)", "\"far\" is not a number"),
         (
             "Hopper-v4+distance(2",
-            "expected distance(<metres>) or delayed",
+            "expected distance(<metres>), delayed or goal(<metres>)",
         ),
         ("SparseHopper-v4+delayed", "unknown environment id"),
     ] {
@@ -359,8 +359,8 @@ fn env_config_from_toml() {
     assert_eq!(written.trim(), "env = \"Walker2d-v5\"");
     for (text, needle) in [
         (
-            "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"goal\" }",
-            "unknown sparse kind \"goal\"; the kinds are distance, delayed",
+            "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"walk\" }",
+            "unknown sparse kind \"walk\"; the kinds are distance, delayed, goal",
         ),
         (
             "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"distance\" }",
@@ -392,6 +392,34 @@ fn env_config_from_toml() {
             .unwrap_err()
             .contains("unknown environment id")
     );
+    // The goal kind: a radius, on a task with a target only.
+    let reacher =
+        read("[env]\nid = \"Reacher-v5\"\nsparse = { kind = \"goal\", radius = 0.02 }").unwrap();
+    assert_eq!(reacher.env_id().unwrap(), "Reacher-v5+goal(0.02)");
+    reacher.validate("env").unwrap();
+    for (text, needle) in [
+        ("sparse = { kind = \"goal\" }", "needs `radius`"),
+        (
+            "sparse = { kind = \"goal\", threshold = 2.0 }",
+            "needs `radius`",
+        ),
+        (
+            "sparse = { kind = \"goal\", radius = -1.0 }",
+            "positive number of metres",
+        ),
+        (
+            "sparse = { kind = \"distance\", threshold = 2.0, radius = 1.0 }",
+            "not `radius`",
+        ),
+    ] {
+        let text = format!("[env]\nid = \"Reacher-v5\"\n{text}");
+        let err = read(&text).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(err.contains(needle), "{text}: {err}");
+    }
+    let no_target = EnvConfig::named("Hopper-v4+goal(0.1)")
+        .validate("env")
+        .unwrap_err();
+    assert!(no_target.contains("only Reacher and Pusher"), "{no_target}");
     // LOGO made four tasks sparse; the others take a kind, and Pusher-v4 has no oracle.
     let no_logo = EnvConfig::named("SparseAnt-v4")
         .validate("env")

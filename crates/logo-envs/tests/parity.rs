@@ -2,7 +2,7 @@
 //! checks every env id, dense and sparse: observations and rewards within 1e-9, the
 //! termination and truncation flags on the same step. LOGO's four tasks are checked as
 //! their `Sparse<id>`, the other seven with the delayed kind; every task with a
-//! distance threshold its trajectory crosses.
+//! distance threshold its trajectory crosses, and Reacher and Pusher with the goal kind.
 
 use std::path::{Path, PathBuf};
 
@@ -149,11 +149,20 @@ fn every_env_id_matches_gymnasium() {
             } else {
                 format!("{base_id}+delayed")
             };
-            let runs = [
+            let mut runs = vec![
                 (base_id.to_string(), EnvOptions::default(), "reward"),
                 (sparse_id, EnvOptions::default(), "sparse_reward"),
                 (base_id.to_string(), low, "sparse_reward_low"),
             ];
+            // The goal kind, where the task has a target, at a radius the trajectory
+            // crosses.
+            if let Some(radius) = meta["goal_radius"].as_f64() {
+                let goal = EnvOptions {
+                    sparse: Some(SparseRule::Goal { radius }),
+                    ..EnvOptions::default()
+                };
+                runs.push((base_id.to_string(), goal, "sparse_reward_goal"));
+            }
             for (id, options, column) in runs {
                 match replay(&id, &options, &traj, column) {
                     Ok(worst) => {
@@ -185,6 +194,7 @@ fn every_env_id_matches_gymnasium() {
 fn fixtures_cover_termination_truncation_and_both_sparse_branches() {
     let dir = fixtures_dir();
     let (mut early_termination, mut truncation, mut sparse_paid) = (false, false, false);
+    let mut goal_paid = (false, false);
     for base_id in logo_envs::BASE_ENV_IDS {
         let manifest: Value = serde_json::from_str(
             &std::fs::read_to_string(dir.join(format!("{base_id}.json"))).unwrap(),
@@ -201,7 +211,13 @@ fn fixtures_cover_termination_truncation_and_both_sparse_branches() {
             early_termination |= steps < 1000 && traj.array("terminated").0.contains(&1.0);
             truncation |= steps == 1000 && traj.array("truncated").0[999] == 1.0;
             sparse_paid |= traj.array("sparse_reward_low").0.contains(&1.0);
+            if !meta["goal_radius"].is_null() {
+                let paid = traj.array("sparse_reward_goal").0;
+                goal_paid.0 |= paid.contains(&1.0);
+                goal_paid.1 |= paid.contains(&0.0);
+            }
         }
     }
     assert!(early_termination && truncation && sparse_paid);
+    assert!(goal_paid.0 && goal_paid.1, "the goal kind's two branches");
 }

@@ -131,6 +131,7 @@ impl Env for PyEnv {
                 info: StepInfo {
                     dense_reward,
                     x_position: x,
+                    goal_distance: None,
                 },
             })
         });

@@ -47,10 +47,25 @@ def test_delayed_pays_as_the_rust_kind():
     assert sum(r != 0 for r in paid) == 5
 
 
+@pytest.mark.parametrize("env_id, radius", [("Reacher-v5", 0.1), ("Pusher-v5", 0.22)])
+def test_goal_pays_as_the_rust_kind(env_id, radius):
+    rng = np.random.default_rng(3)
+    env = SparseReward(gym.make(env_id), "goal", radius=radius)
+    limit = {"Reacher": 50, "Pusher": 100}[env_id.split("-")[0]]
+    paid = compare(env, f"{env_id}+goal({radius})", rng, episodes=6, max_steps=limit)
+    assert 0 < sum(paid) < len(paid), "the target was never, or always, within the radius"
+
+
 def test_bad_kinds_are_errors():
     env = gym.make("Hopper-v4")
-    with pytest.raises(ValueError, match="unknown sparse kind 'goal'"):
-        SparseReward(env, "goal")
+    with pytest.raises(ValueError, match="unknown sparse kind 'walk'"):
+        SparseReward(env, "walk")
+    with pytest.raises(ValueError, match="positive finite radius"):
+        SparseReward(gym.make("Reacher-v5"), "goal")
+    with pytest.raises(ValueError, match="needs goal_distance="):
+        SparseReward(env, "goal", radius=0.1)
+    with pytest.raises(ValueError, match="takes no radius"):
+        SparseReward(env, "distance", threshold=1, radius=0.1)
     with pytest.raises(ValueError, match="positive finite threshold"):
         SparseReward(env, "distance", threshold=-1)
     with pytest.raises(ValueError, match="takes no threshold"):

@@ -158,12 +158,7 @@ impl Evaluator {
     fn new(config: &TrainConfig, spec: &EnvSpec) -> Result<Self, TrainError> {
         let env = config.evaluated_env().factory()?.build()?;
         if env.spec().obs_dim != spec.obs_dim || env.spec().act_dim != spec.act_dim {
-            return Err(format!(
-                "eval_env {} does not have the dims of env {}",
-                env.spec().id,
-                spec.id
-            )
-            .into());
+            config.check_eval_env_dims()?;
         }
         Ok(Self {
             env,

@@ -2,15 +2,37 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any, Callable
 
 import gymnasium as gym
 
-KINDS = ("distance", "delayed")
+KINDS = ("distance", "delayed", "goal")
+# The bodies whose distance in the plane Gymnasium's tasks with a target are scored on.
+GOAL_BODIES = (("fingertip", "target"), ("object", "goal"))
 
 
 def _mujoco_x(env: gym.Env) -> float:
     return float(env.unwrapped.data.qpos[0])
+
+
+def _mujoco_goal_distance(env: gym.Env) -> Callable[[gym.Env], float] | None:
+    """Reacher's fingertip-to-target or Pusher's object-to-goal distance in the plane, as
+    the Rust envs measure it; None for an env with neither pair of bodies."""
+    model = getattr(env.unwrapped, "model", None)
+    if model is None:
+        return None
+    names = {model.body(i).name for i in range(model.nbody)}
+    for a, b in GOAL_BODIES:
+        if a in names and b in names:
+
+            def distance(env: gym.Env, a=a, b=b) -> float:
+                data = env.unwrapped.data
+                pa, pb = data.body(a).xpos, data.body(b).xpos
+                return math.hypot(pa[0] - pb[0], pa[1] - pb[1])
+
+            return distance
+    return None
 
 
 class SparseReward(gym.Wrapper):
@@ -23,9 +45,13 @@ class SparseReward(gym.Wrapper):
       which pays the episode's whole return (LOGO's InvertedDoublePendulum). Wrap the env
       *outside* its ``TimeLimit`` (as ``gymnasium.make`` returns it), so that the time limit's
       last step pays too.
+    - ``kind="goal", radius=r``: +1 on every step where the distance to the target is below
+      ``r``, else 0 (Reacher: fingertip to target; Pusher: object to goal; in the plane).
 
     ``position`` (distance only): a callable of the env giving the position along the axis
     of travel; by default ``qpos[0]`` of a Gymnasium MuJoCo env, as the Rust envs use.
+    ``goal_distance`` (goal only): a callable of the env giving its distance to the target;
+    by default Reacher's and Pusher's, as the Rust envs measure them.
     """
 
     def __init__(
@@ -34,6 +60,8 @@ class SparseReward(gym.Wrapper):
         kind: str,
         threshold: float | None = None,
         position: Callable[[gym.Env], float] | None = None,
+        radius: float | None = None,
+        goal_distance: Callable[[gym.Env], float] | None = None,
     ):
         super().__init__(env)
         if kind not in KINDS:
@@ -51,8 +79,20 @@ class SparseReward(gym.Wrapper):
                     )
                 position = _mujoco_x
         elif threshold is not None:
-            raise ValueError("kind 'delayed' takes no threshold")
+            raise ValueError(f"kind {kind!r} takes no threshold")
+        if kind == "goal":
+            if radius is None or not (float(radius) > 0 and float(radius) < float("inf")):
+                raise ValueError(f"kind 'goal' needs a positive finite radius (metres), got {radius!r}")
+            goal_distance = goal_distance or _mujoco_goal_distance(env)
+            if goal_distance is None:
+                raise ValueError(
+                    "kind 'goal' needs goal_distance= for an env other than Gymnasium's Reacher "
+                    "and Pusher (a callable of the env giving its distance to the target)"
+                )
+        elif radius is not None:
+            raise ValueError(f"kind {kind!r} takes no radius")
         self.kind, self.threshold, self._position = kind, threshold, position
+        self.radius, self._goal_distance = radius, goal_distance
         self._start = 0.0
         self._episode_return = 0.0
 
@@ -76,6 +116,8 @@ class SparseReward(gym.Wrapper):
         if self.kind == "distance":
             moved = self._position(self.env) - self._start
             reward = 1.0 if moved > self.threshold else 0.0
+        elif self.kind == "goal":
+            reward = 1.0 if self._goal_distance(self.env) < self.radius else 0.0
         else:
             self._episode_return += float(dense)
             reward = self._episode_return if (terminated or truncated) else 0.0
