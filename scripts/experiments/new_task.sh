@@ -12,7 +12,8 @@
 #
 # Usage: new_task.sh TASK SPARSE TARGET
 #   TASK    a dense id of `logo envs`, e.g. Hopper-v4
-#   SPARSE  how its reward is made sparse: distance(<metres>) or delayed
+#   SPARSE  how its reward is made sparse: distance(<metres>), delayed, or goal(<metres>)
+#           (Reacher and Pusher)
 #   TARGET  the behaviour policy's stopping return (dense)
 # Settings, as environment variables (defaults in brackets):
 #   OUT [runs/new-task/<task>]  LOGO [./target/release/logo]
@@ -27,20 +28,21 @@ usage() {
   exit 2
 }
 
-# `distance(2)` or `delayed` as the TOML inline table of a config's [env] sparse.
+# `distance(2)`, `delayed` or `goal(0.02)` as the TOML inline table of a config's [env] sparse.
 sparse_table() {
   case "$1" in
-    distance\(*\))
-      local metres="${1#distance(}"
+    distance\(*\) | goal\(*\))
+      local kind="${1%%(*}" metres="${1#*(}" key=threshold
       metres="${metres%)}"
+      [ "$kind" = goal ] && key=radius
       [[ "$metres" =~ ^(0|[1-9][0-9]*)(\.[0-9]+)?$ ]] || {
-        echo "new_task.sh: SPARSE $1: the threshold must be a positive number of metres" >&2
+        echo "new_task.sh: SPARSE $1: the $key must be a positive number of metres" >&2
         exit 2
       }
-      echo "{ kind = \"distance\", threshold = $metres }" ;;
+      echo "{ kind = \"$kind\", $key = $metres }" ;;
     delayed) echo '{ kind = "delayed" }' ;;
     *)
-      echo "new_task.sh: SPARSE $1: expected distance(<metres>) or delayed" >&2
+      echo "new_task.sh: SPARSE $1: expected distance(<metres>), delayed or goal(<metres>)" >&2
       exit 2 ;;
   esac
 }
