@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """Records Gymnasium 1.4.0 + MuJoCo 3.17.0 trajectories: the oracle for logo-envs.
 
-For every env id, from given initial qpos/qvel and under given action sequences
-(uniform-random in the control range, and saturating beyond it so MuJoCo clamps),
-it records observations, dense rewards, LOGO's sparse rewards, x positions and the
-termination/truncation flags, for 1000 steps or until the episode ends.
+For every env id, from given initial qpos/qvel (LOGO's four tasks: the model's with
+noise drawn here; the other seven: the task's own reset) and under given action
+sequences (uniform-random in the control range, and saturating beyond it so MuJoCo
+clamps), it records observations, dense rewards, sparse rewards (LOGO's rule for its four
+tasks, the episode lump for the others; a low distance threshold; the goal kind for
+Reacher and Pusher), x positions and the termination/truncation flags, until the episode
+ends or for at most 1000 steps (fewer for the wide observations of MAX_STEPS).
 
 The sparse rewards come from LogoSparse below, written from docs/reference.md
 independently of the Rust code. The Rust test crates/logo-envs/tests/parity.rs replays

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use logo_envs::EnvConfig;
+use logo_envs::{EnvConfig, EnvSpec};
 use logo_nn::DiscriminatorInit;
 
 use crate::critic::CriticConfig;
@@ -371,19 +371,7 @@ impl TrainConfig {
                 .map_err(|e| format!("{key}: {e}"))
         };
         let (trained, evaluated) = (spec(&self.env, "env")?, spec(eval_env, "eval_env")?);
-        if (evaluated.obs_dim, evaluated.act_dim) != (trained.obs_dim, trained.act_dim) {
-            return Err(format!(
-                "eval_env {} does not have the dims of env {}: {} observations and {} actions \
-                 against {} and {}",
-                evaluated.id,
-                trained.id,
-                evaluated.obs_dim,
-                evaluated.act_dim,
-                trained.obs_dim,
-                trained.act_dim
-            ));
-        }
-        Ok(())
+        dims_mismatch(&trained, &evaluated).map_or(Ok(()), Err)
     }
 
     /// The registry id of the task a person watches (videos, `logo eval`): `eval_env`,
@@ -481,6 +469,24 @@ impl GuidanceConfig {
         }
         Ok(())
     }
+}
+
+/// Why an evaluation env cannot take a policy trained on `trained`, if it cannot: other
+/// observation or action dims.
+pub fn dims_mismatch(trained: &EnvSpec, evaluated: &EnvSpec) -> Option<String> {
+    let same = (evaluated.obs_dim, evaluated.act_dim) == (trained.obs_dim, trained.act_dim);
+    (!same).then(|| {
+        format!(
+            "eval_env {} does not have the dims of env {}: {} observations and {} actions \
+             against {} and {}",
+            evaluated.id,
+            trained.id,
+            evaluated.obs_dim,
+            evaluated.act_dim,
+            trained.obs_dim,
+            trained.act_dim
+        )
+    })
 }
 
 #[cfg(test)]

@@ -30,7 +30,7 @@ pub fn list_envs() -> Result<()> {
     println!("(id = \"Hopper-v4\", sparse = {{ kind = \"distance\", threshold = 2.0 }}),");
     println!("or on the command line as <id>+<kind>, e.g. Hopper-v4+distance(5):");
     for (kind, parameters, pays) in SPARSE_KINDS {
-        println!("  {kind:10} {parameters:28} {pays}");
+        println!("  {kind:10} {parameters:30} {pays}");
     }
     Ok(())
 }

@@ -2,8 +2,8 @@
 
 use crate::env::Version;
 use crate::hopper::locomotion_reward;
-use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
-use crate::numpy_sum::sum_of_squares;
+use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task, state_is_finite};
+use crate::numpy_sum::numpy_sum_of;
 
 /// Body id of the torso in `ant.xml`: its frame's x is what the forward reward differentiates.
 const TORSO: usize = 1;
@@ -18,17 +18,12 @@ pub struct Ant {
 }
 
 fn is_healthy(data: &Data) -> bool {
-    let z = data.qpos()[2];
-    let finite = data.qpos().iter().chain(data.qvel()).all(|s| s.is_finite());
-    finite && (0.2..=1.0).contains(&z)
+    state_is_finite(data) && (0.2..=1.0).contains(&data.qpos()[2])
 }
 
-/// Contact forces per body, each clipped to ±1, bodies `from..` (row-major: 6 per body).
-fn clipped_contact_forces(data: &Data, from: usize) -> impl Iterator<Item = f64> + '_ {
-    data.cfrc_ext()[from..]
-        .iter()
-        .flatten()
-        .map(|f| f.clamp(-1.0, 1.0))
+/// Contact forces of bodies `from..`, row-major (6 per body), each to be clipped to ±1.
+fn contact_forces(data: &Data, from: usize) -> &[f64] {
+    data.cfrc_ext()[from..].as_flattened()
 }
 
 impl Task for Ant {
@@ -56,8 +51,8 @@ impl Task for Ant {
         positions.copy_from_slice(qpos);
         let (velocities, forces) = rest.split_at_mut(qvel.len());
         velocities.copy_from_slice(qvel);
-        for (o, f) in forces.iter_mut().zip(clipped_contact_forces(data, 1)) {
-            *o = f;
+        for (o, f) in forces.iter_mut().zip(contact_forces(data, 1)) {
+            *o = f.clamp(-1.0, 1.0);
         }
     }
     fn before_step(&self, data: &Data, _action: &[f64]) -> BeforeStep {
@@ -72,8 +67,12 @@ impl Task for Ant {
         let reward = match self.version {
             Version::V4 => locomotion_reward(x_velocity, 1.0, 0.5, action),
             Version::V5 => {
-                let ctrl_cost = 0.5 * sum_of_squares(action.iter().copied());
-                let contact_cost = 5e-4 * sum_of_squares(clipped_contact_forces(data, 0));
+                let ctrl_cost = 0.5 * numpy_sum_of(action, |a| a * a);
+                let clipped_square = |f: f64| {
+                    let clipped = f.clamp(-1.0, 1.0);
+                    clipped * clipped
+                };
+                let contact_cost = 5e-4 * numpy_sum_of(contact_forces(data, 0), clipped_square);
                 (x_velocity + f64::from(u8::from(healthy))) - (ctrl_cost + contact_cost)
             }
         };

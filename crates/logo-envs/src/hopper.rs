@@ -2,7 +2,7 @@
 
 use crate::env::Version;
 use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
-use crate::numpy_sum::sum_of_squares;
+use crate::numpy_sum::numpy_sum_of;
 
 /// One-legged hopper: obs = qpos[1:] ‖ clip(qvel, ±10) (11), reward = v_x + healthy − 1e-3‖a‖².
 #[derive(Debug, Clone, Copy)]
@@ -29,7 +29,7 @@ pub(crate) fn locomotion_reward(
     ctrl_cost_weight: f64,
     action: &[f64],
 ) -> f64 {
-    let ctrl_cost = ctrl_cost_weight * sum_of_squares(action.iter().copied());
+    let ctrl_cost = ctrl_cost_weight * numpy_sum_of(action, |a| a * a);
     (x_velocity + healthy_reward) - ctrl_cost
 }
 

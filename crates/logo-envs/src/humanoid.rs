@@ -3,7 +3,7 @@
 
 use crate::env::Version;
 use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
-use crate::numpy_sum::{numpy_sum, sum_of_squares};
+use crate::numpy_sum::{numpy_sum, numpy_sum_of};
 
 /// Humanoid's observation, the same for both tasks: qpos[2:] ‖ qvel ‖ cinert ‖ cvel ‖
 /// qfrc_actuator ‖ cfrc_ext, unclipped. v4 keeps every body's rows (the world's are
@@ -36,12 +36,12 @@ fn humanoid_obs_dim(version: Version) -> usize {
 /// 0.1‖ctrl‖²: the control cost of both tasks (Gymnasium squares `data.ctrl`, the action
 /// as given).
 fn control_cost(data: &Data) -> f64 {
-    0.1 * sum_of_squares(data.ctrl().iter().copied())
+    0.1 * numpy_sum_of(data.ctrl(), |a| a * a)
 }
 
 /// 5e-7‖cfrc_ext‖², at most 10: the contact cost of Humanoid-v5 and both Standups.
 fn contact_cost(data: &Data) -> f64 {
-    (5e-7 * sum_of_squares(data.cfrc_ext().iter().flatten().copied())).min(10.0)
+    (5e-7 * numpy_sum_of(data.cfrc_ext().as_flattened(), |f| f * f)).min(10.0)
 }
 
 /// Three-dimensional humanoid walking forward. reward = 1.25 v_x(mass centre) + 5 −

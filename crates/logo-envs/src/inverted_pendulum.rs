@@ -2,7 +2,7 @@
 //! `inverted_pendulum_v5.py` compute it.
 
 use crate::env::Version;
-use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
+use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task, state_is_finite};
 
 /// Cart with a one-link pole: obs = qpos ‖ qvel (4), +1 per step (v5: 0 on the terminating
 /// step); terminates when the pole leans past 0.2 rad or the state is not finite.
@@ -32,9 +32,8 @@ impl Task for InvertedPendulum {
         obs[2..].copy_from_slice(data.qvel());
     }
     fn reward(&self, data: &Data, _: BeforeStep, _dt: f64, _action: &[f64]) -> (f64, bool) {
-        let finite = data.qpos().iter().chain(data.qvel()).all(|s| s.is_finite());
         // Not `angle.abs() <= 0.2`: a NaN angle must terminate.
-        let terminated = !finite || data.qpos()[1].abs() > 0.2;
+        let terminated = !state_is_finite(data) || data.qpos()[1].abs() > 0.2;
         let reward = match self.version {
             Version::V4 => 1.0,
             Version::V5 => f64::from(u8::from(!terminated)),

@@ -3,7 +3,8 @@
 //! - [`Env`]: the interface every environment implements (reset, step, seeded noise).
 //! - [`MujocoEnv`]: the generic MuJoCo stepping loop; a new MJCF model needs only a
 //!   [`Task`] (observation, reward, termination, reset noise), see `hopper.rs` for one.
-//! - Gymnasium's eleven MuJoCo tasks in their `-v4` and `-v5` forms, and [`SparseReward`]:
+//! - Gymnasium's eleven MuJoCo tasks in their `-v4` and `-v5` forms (Pusher `-v5` only),
+//!   and [`SparseReward`]:
 //!   any of them made sparse by a [`SparseRule`] (a config's [`EnvConfig`]), LOGO's own
 //!   four under their old names (`SparseHopper-v4`, ...).
 //! - [`VecEnv`]: N copies on worker threads, one `MjData` each over a shared `MjModel`.
@@ -48,7 +49,8 @@ pub use mujoco_env::{BeforeStep, Data, MujocoEnv, ResetNoise, Task, models_dir};
 pub use pusher::Pusher;
 pub use reacher::Reacher;
 pub use registry::{
-    BASE_ENV_IDS, EnvFactory, EnvOptions, all_env_ids, canonical_id, dense_id, make, sparse_id,
+    BASE_ENV_IDS, EnvFactory, EnvOptions, all_env_ids, canonical_id, default_max_episode_steps,
+    dense_id, make, sparse_id,
 };
 pub use sparse::{SPARSE_KINDS, SparseReward, SparseRule};
 pub use swimmer::Swimmer;

@@ -30,14 +30,51 @@ pub enum ResetNoise {
     Uniform { scale: f64 },
     /// qpos += U(-scale, scale), qvel += scale * N(0, 1) (HalfCheetah, InvertedDoublePendulum, Ant).
     UniformPosNormalVel { scale: f64 },
-    /// Reacher's: qpos += U(-0.1, 0.1); the target (the last two qpos) drawn in pairs from
-    /// U(-0.2, 0.2)² until inside the disk of radius 0.2; qvel += U(-0.005, 0.005) with
-    /// the target's two at 0.
-    ReacherTarget,
-    /// Pusher's: qpos as the model has it, but the object's two slides (qpos[7], qpos[8])
-    /// drawn as U(-0.3, 0) and U(-0.2, 0.2) until more than 0.17 from the goal; qvel +=
-    /// U(-0.005, 0.005) with the object's and goal's four at 0.
-    PusherObject,
+    /// The task draws its own initial state ([`Task::reset_state`]: Reacher's target,
+    /// Pusher's object).
+    Own,
+}
+
+impl ResetNoise {
+    /// Draws `init` + noise into `qpos`, `qvel` in Gymnasium's order: all of qpos's noise,
+    /// then qvel's. [`ResetNoise::Own`] leaves the initial state as it is.
+    pub fn draw(
+        self,
+        rng: &mut ChaCha8Rng,
+        init: (&[f64], &[f64]),
+        qpos: &mut [f64],
+        qvel: &mut [f64],
+    ) {
+        let (init_qpos, init_qvel) = init;
+        qpos.copy_from_slice(init_qpos);
+        qvel.copy_from_slice(init_qvel);
+        match self {
+            ResetNoise::Uniform { scale } => {
+                uniform_noise(rng, qpos, scale);
+                uniform_noise(rng, qvel, scale);
+            }
+            ResetNoise::UniformPosNormalVel { scale } => {
+                uniform_noise(rng, qpos, scale);
+                for v in qvel.iter_mut() {
+                    let n: f64 = rng.sample(StandardNormal);
+                    *v += scale * n;
+                }
+            }
+            ResetNoise::Own => {}
+        }
+    }
+}
+
+/// Whether every entry of qpos and qvel is finite (Gymnasium's `np.isfinite(state).all()`).
+pub(crate) fn state_is_finite(data: &Data) -> bool {
+    data.qpos().iter().chain(data.qvel()).all(|s| s.is_finite())
+}
+
+/// Adds U(-scale, scale) to each value, in order.
+pub fn uniform_noise(rng: &mut ChaCha8Rng, values: &mut [f64], scale: f64) {
+    for v in values {
+        *v += rng.random_range(-scale..scale);
+    }
 }
 
 /// What a task reads from the state before a step's simulation.
@@ -46,12 +83,14 @@ pub struct BeforeStep {
     /// The position the forward reward differentiates: `qpos[0]` unless the task says
     /// otherwise (Ant: the torso body's x, Humanoid: the mass centre's).
     pub x: f64,
-    /// The reward of a task that pays for the state before the step (Reacher-v4,
-    /// Pusher-v4 compute it before simulating); else 0.
+    /// The reward of a task that pays for the state before the step (Reacher-v4 computes
+    /// it before simulating); else 0.
     pub reward: f64,
 }
 
 /// What makes one environment different from another: implement this for a new MJCF model.
+/// (A method added here is forwarded by `impl Task for Box<dyn Task>` below too, or the
+/// registry's boxed tasks fall back to its default.)
 pub trait Task: Send + Sync + 'static {
     /// Registry id, e.g. `Hopper-v4`.
     fn id(&self) -> String;
@@ -61,6 +100,17 @@ pub trait Task: Send + Sync + 'static {
     fn frame_skip(&self) -> usize;
     fn obs_dim(&self) -> usize;
     fn reset_noise(&self) -> ResetNoise;
+    /// The initial state of an episode, drawn into `qpos`, `qvel` from the model's
+    /// (`init`): by [`Task::reset_noise`] unless the task draws its own.
+    fn reset_state(
+        &self,
+        rng: &mut ChaCha8Rng,
+        init: (&[f64], &[f64]),
+        qpos: &mut [f64],
+        qvel: &mut [f64],
+    ) {
+        self.reset_noise().draw(rng, init, qpos, qvel);
+    }
     /// Gymnasium's registered time limit.
     fn max_episode_steps(&self) -> usize {
         1000
@@ -101,6 +151,15 @@ impl Task for Box<dyn Task> {
     }
     fn reset_noise(&self) -> ResetNoise {
         (**self).reset_noise()
+    }
+    fn reset_state(
+        &self,
+        rng: &mut ChaCha8Rng,
+        init: (&[f64], &[f64]),
+        qpos: &mut [f64],
+        qvel: &mut [f64],
+    ) {
+        (**self).reset_state(rng, init, qpos, qvel);
     }
     fn max_episode_steps(&self) -> usize {
         (**self).max_episode_steps()
@@ -227,54 +286,6 @@ impl<T: Task> MujocoEnv<T> {
         &self.data
     }
 
-    /// Reacher's reset draws, in Gymnasium's order: qpos noise, the target until it lies
-    /// in the reachable disk, then qvel noise.
-    fn reacher_reset(&mut self) {
-        let (qpos, qvel, rng) = (
-            &mut self.scratch_qpos,
-            &mut self.scratch_qvel,
-            &mut self.rng,
-        );
-        for (q, q0) in qpos.iter_mut().zip(&self.init_qpos) {
-            *q = rng.random_range(-0.1..0.1) + q0;
-        }
-        let target = loop {
-            let goal: [f64; 2] = [rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2)];
-            if goal[0].hypot(goal[1]) < 0.2 {
-                break goal;
-            }
-        };
-        let n = qpos.len();
-        qpos[n - 2..].copy_from_slice(&target);
-        for (v, v0) in qvel.iter_mut().zip(&self.init_qvel) {
-            *v = v0 + rng.random_range(-0.005..0.005);
-        }
-        qvel[n - 2..].fill(0.0);
-    }
-
-    /// Pusher's reset draws: the object's place away from the goal, then qvel noise.
-    fn pusher_reset(&mut self) {
-        let (qpos, qvel, rng) = (
-            &mut self.scratch_qpos,
-            &mut self.scratch_qvel,
-            &mut self.rng,
-        );
-        qpos.copy_from_slice(&self.init_qpos);
-        let object = loop {
-            let place: [f64; 2] = [rng.random_range(-0.3..0.0), rng.random_range(-0.2..0.2)];
-            if place[0].hypot(place[1]) > 0.17 {
-                break place;
-            }
-        };
-        let n = qpos.len();
-        qpos[n - 4..n - 2].copy_from_slice(&object);
-        qpos[n - 2..].fill(0.0);
-        for (v, v0) in qvel.iter_mut().zip(&self.init_qvel) {
-            *v = v0 + rng.random_range(-0.005..0.005);
-        }
-        qvel[n - 4..].fill(0.0);
-    }
-
     /// Gymnasium's `set_state`: copies the scratch qpos/qvel in, then `mj_forward`.
     fn write_scratch_state(&mut self) {
         self.data.qpos_mut().copy_from_slice(&self.scratch_qpos);
@@ -293,28 +304,12 @@ impl<T: Task> Env for MujocoEnv<T> {
             self.rng = ChaCha8Rng::seed_from_u64(seed);
         }
         self.data.reset();
-        // Same draw order as Gymnasium: all of qpos's noise, then qvel's.
-        match self.task.reset_noise() {
-            ResetNoise::Uniform { scale } => {
-                for (q, q0) in self.scratch_qpos.iter_mut().zip(&self.init_qpos) {
-                    *q = q0 + self.rng.random_range(-scale..scale);
-                }
-                for (v, v0) in self.scratch_qvel.iter_mut().zip(&self.init_qvel) {
-                    *v = v0 + self.rng.random_range(-scale..scale);
-                }
-            }
-            ResetNoise::UniformPosNormalVel { scale } => {
-                for (q, q0) in self.scratch_qpos.iter_mut().zip(&self.init_qpos) {
-                    *q = q0 + self.rng.random_range(-scale..scale);
-                }
-                for (v, v0) in self.scratch_qvel.iter_mut().zip(&self.init_qvel) {
-                    let n: f64 = self.rng.sample(StandardNormal);
-                    *v = v0 + scale * n;
-                }
-            }
-            ResetNoise::ReacherTarget => self.reacher_reset(),
-            ResetNoise::PusherObject => self.pusher_reset(),
-        }
+        self.task.reset_state(
+            &mut self.rng,
+            (&self.init_qpos, &self.init_qvel),
+            &mut self.scratch_qpos,
+            &mut self.scratch_qvel,
+        );
         self.write_scratch_state();
         self.elapsed_steps = 0;
         self.running = true;

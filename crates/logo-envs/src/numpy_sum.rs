@@ -5,30 +5,38 @@
 /// pairwise, then the remainder in order; above that, the halves (cut at a multiple of 8)
 /// summed so and added.
 pub(crate) fn numpy_sum(values: &[f64]) -> f64 {
+    numpy_sum_of(values, |v| v)
+}
+
+/// [`numpy_sum`] of `f` of each value (`np.sum(np.square(a))` is `numpy_sum_of(a, |v| v * v)`),
+/// without an array of the results: `f` is elementwise, so the sums are the same.
+pub(crate) fn numpy_sum_of(values: &[f64], f: impl Fn(f64) -> f64 + Copy) -> f64 {
     let n = values.len();
     if n < 8 {
-        return values.iter().fold(0.0, |sum, v| sum + v);
+        return values.iter().fold(0.0, |sum, &v| sum + f(v));
     }
     if n <= 128 {
         let mut r = [0.0; 8];
-        r.copy_from_slice(&values[..8]);
+        for (sum, &v) in r.iter_mut().zip(&values[..8]) {
+            *sum = f(v);
+        }
         let blocks = n - n % 8;
         for block in values[8..blocks].chunks_exact(8) {
-            for (sum, v) in r.iter_mut().zip(block) {
-                *sum += v;
+            for (sum, &v) in r.iter_mut().zip(block) {
+                *sum += f(v);
             }
         }
         let paired = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
-        return values[blocks..].iter().fold(paired, |sum, v| sum + v);
+        return values[blocks..].iter().fold(paired, |sum, &v| sum + f(v));
     }
     let half = n / 2 - (n / 2) % 8;
-    numpy_sum(&values[..half]) + numpy_sum(&values[half..])
+    numpy_sum_of(&values[..half], f) + numpy_sum_of(&values[half..], f)
 }
 
-/// numpy's sum of the squares: `np.sum(np.square(values))`.
-pub(crate) fn sum_of_squares(values: impl IntoIterator<Item = f64>) -> f64 {
-    let squares: Vec<f64> = values.into_iter().map(|v| v * v).collect();
-    numpy_sum(&squares)
+/// `np.linalg.norm` of a 3-vector as numpy computes it here: the square root of a BLAS dot
+/// product, a chain of fused multiply-adds.
+pub(crate) fn norm3([x, y, z]: [f64; 3]) -> f64 {
+    z.mul_add(z, y.mul_add(y, x * x)).sqrt()
 }
 
 #[cfg(test)]

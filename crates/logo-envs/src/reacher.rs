@@ -1,8 +1,11 @@
 //! Reacher, as Gymnasium 1.4.0's `reacher_v4.py` / `reacher_v5.py` compute it.
 
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
 use crate::env::Version;
-use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
-use crate::numpy_sum::sum_of_squares;
+use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task, uniform_noise};
+use crate::numpy_sum::{norm3, numpy_sum_of};
 
 /// Body ids in `reacher.xml`.
 const FINGERTIP: usize = 3;
@@ -25,9 +28,8 @@ fn fingertip_to_target(data: &Data) -> [f64; 3] {
 
 /// The distance and control terms Gymnasium adds, in its order.
 fn reach_reward(data: &Data, action: &[f64]) -> f64 {
-    let [dx, dy, dz] = fingertip_to_target(data);
-    let distance = dz.mul_add(dz, dy.mul_add(dy, dx * dx)).sqrt();
-    -distance - sum_of_squares(action.iter().copied())
+    let distance = norm3(fingertip_to_target(data));
+    -distance - numpy_sum_of(action, |a| a * a)
 }
 
 impl Task for Reacher {
@@ -50,7 +52,31 @@ impl Task for Reacher {
         50
     }
     fn reset_noise(&self) -> ResetNoise {
-        ResetNoise::ReacherTarget
+        ResetNoise::Own
+    }
+    /// Gymnasium's draws, in its order: qpos += U(-0.1, 0.1); the target (the last two
+    /// qpos) drawn in pairs from U(-0.2, 0.2)² until inside the disk of radius 0.2 the
+    /// arm reaches; qvel += U(-0.005, 0.005), the target's two at rest.
+    fn reset_state(
+        &self,
+        rng: &mut ChaCha8Rng,
+        init: (&[f64], &[f64]),
+        qpos: &mut [f64],
+        qvel: &mut [f64],
+    ) {
+        ResetNoise::Own.draw(rng, init, qpos, qvel);
+        uniform_noise(rng, qpos, 0.1);
+        let target = loop {
+            let goal: [f64; 2] = [rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2)];
+            if goal[0].hypot(goal[1]) < 0.2 {
+                break goal;
+            }
+        };
+        let nq = qpos.len();
+        qpos[nq - 2..].copy_from_slice(&target);
+        uniform_noise(rng, qvel, 0.005);
+        let nv = qvel.len();
+        qvel[nv - 2..].fill(0.0);
     }
     fn observe(&self, data: &Data, obs: &mut [f64]) {
         let (qpos, qvel) = (data.qpos(), data.qvel());

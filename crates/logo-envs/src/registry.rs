@@ -158,7 +158,8 @@ fn parse_id(id: &str) -> Result<(Kind, Version, Option<SparseRule>), EnvError> {
         Some(None) => Some(kind.logo_rule().ok_or_else(|| {
             EnvError::InvalidOption(format!(
                 "{id}: LOGO has no sparse version of {name}; give the dense id {base} with \
-                 an [env.sparse] kind (`logo envs` lists them), e.g. {base}+distance(5)"
+                 an [env.sparse] kind (`logo envs` lists them), e.g. {base}+{}",
+                kind.suggested_rule()
             ))
         })?),
     };
@@ -177,6 +178,24 @@ impl Kind {
         }
     }
 
+    /// A kind that fits the task, for error messages: a target to reach, the episode's
+    /// return for the tasks not about moving along x, else a distance.
+    fn suggested_rule(self) -> &'static str {
+        match self {
+            Kind::Reacher => "goal(0.02)",
+            Kind::Pusher => "goal(0.08)",
+            Kind::InvertedPendulum | Kind::InvertedDoublePendulum | Kind::HumanoidStandup => {
+                "delayed"
+            }
+            _ => "distance(5)",
+        }
+    }
+
+    /// Whether the task reports a goal distance (what the goal kind pays on).
+    fn has_goal(self) -> bool {
+        matches!(self, Kind::Reacher | Kind::Pusher)
+    }
+
     /// The task as the MuJoCo loop runs it.
     fn task(self, version: Version) -> Box<dyn Task> {
         match self {
@@ -188,7 +207,7 @@ impl Kind {
             Kind::Humanoid => Box::new(Humanoid { version }),
             Kind::HumanoidStandup => Box::new(HumanoidStandup { version }),
             Kind::InvertedPendulum => Box::new(InvertedPendulum { version }),
-            Kind::Pusher => Box::new(Pusher { version }),
+            Kind::Pusher => Box::new(Pusher),
             Kind::Reacher => Box::new(Reacher { version }),
             Kind::Swimmer => Box::new(Swimmer { version }),
         }
@@ -238,7 +257,7 @@ pub fn sparse_id(dense: &str, rule: SparseRule) -> Result<String, EnvError> {
 /// A rule's parameters, and whether the task can pay it (the goal kind needs a target).
 fn check_rule(id: &str, kind: Kind, rule: SparseRule) -> Result<(), EnvError> {
     rule.validate().map_err(EnvError::InvalidOption)?;
-    if matches!(rule, SparseRule::Goal { .. }) && !matches!(kind, Kind::Reacher | Kind::Pusher) {
+    if matches!(rule, SparseRule::Goal { .. }) && !kind.has_goal() {
         return Err(EnvError::InvalidOption(format!(
             "{id}: the goal kind pays for reaching a target, and only Reacher and Pusher have \
              one; use distance or delayed"
@@ -352,6 +371,13 @@ impl EnvFactory {
             ))),
         }
     }
+}
+
+/// The time limit Gymnasium registers `id`'s task with (1000; Reacher 50, Pusher 100),
+/// without loading its model; an error for an unknown id.
+pub fn default_max_episode_steps(id: &str) -> Result<usize, EnvError> {
+    let (kind, version, _) = parse_id(id)?;
+    Ok(kind.task(version).max_episode_steps())
 }
 
 /// One env by id with default options: `make("SparseHopper-v4")`.

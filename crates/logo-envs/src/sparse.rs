@@ -66,7 +66,9 @@ impl TryFrom<RuleTable> for SparseRule {
                 return Err("kind \"distance\" takes `threshold`, not `radius`".into());
             }
             ("delayed", None, None) => Self::Delayed,
-            ("delayed", ..) => return Err("kind \"delayed\" takes no `threshold`".into()),
+            ("delayed", ..) => {
+                return Err("kind \"delayed\" takes no `threshold` or `radius`".into());
+            }
             ("goal", None, Some(radius)) => Self::Goal { radius },
             ("goal", _, None) => return Err("kind \"goal\" needs `radius`".into()),
             ("goal", Some(_), _) => {
@@ -158,6 +160,8 @@ pub struct SparseReward<E: Env> {
 
 impl<E: Env> SparseReward<E> {
     /// `id` names the sparse task (the registry's: `SparseHopper-v4` for LOGO's rule).
+    /// The goal kind pays only on an env whose steps report a goal distance (the
+    /// registry builds it over Reacher and Pusher alone); on any other it pays 0.
     pub fn new(inner: E, rule: SparseRule, id: String) -> Self {
         let mut spec = inner.spec().clone();
         spec.id = id;

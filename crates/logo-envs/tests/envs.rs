@@ -483,3 +483,53 @@ fn goal_tasks_place_their_targets_as_gymnasium_does() {
         assert!(spread(0) > 0.2 && spread(1) > 0.2, "{id}: {places:?}");
     }
 }
+
+/// The other seven tasks' reset noise has Gymnasium's scale: over 50 seeds each qpos
+/// entry (and qvel entry, where the noise is uniform) lies within the scale of the model's
+/// pose, and some reach past half of it (the noise is there, at that scale). Reacher's
+/// target and Pusher's object are tested above.
+#[test]
+fn reset_noise_has_gymnasiums_scale() {
+    // (id, qpos scale, qvel scale; None: normal noise, unbounded; the entries checked)
+    let cases: [(&str, f64, Option<f64>, usize, usize); 7] = [
+        ("Ant-v5", 0.1, None, 15, 0),
+        ("Humanoid-v5", 0.01, Some(0.01), 24, 23),
+        ("HumanoidStandup-v5", 0.01, Some(0.01), 24, 23),
+        ("InvertedPendulum-v5", 0.01, Some(0.01), 2, 2),
+        ("Swimmer-v5", 0.1, Some(0.1), 5, 5),
+        ("Reacher-v5", 0.1, Some(0.005), 2, 2),
+        ("Pusher-v5", 0.0, Some(0.005), 7, 7),
+    ];
+    for (id, qpos_scale, qvel_scale, nq, nv) in cases {
+        let factory = EnvFactory::new(id, &EnvOptions::default()).unwrap();
+        let qpos0 = factory.model().unwrap().qpos0().to_vec();
+        let mut env = factory.build().unwrap();
+        let mut obs = vec![0.0; env.spec().obs_dim];
+        let (mut widest_qpos, mut widest_qvel) = (0.0f64, 0.0f64);
+        for seed in 0..50 {
+            env.reset(Some(seed), &mut obs);
+            let (qpos, qvel) = env.state();
+            for (q, q0) in qpos[..nq].iter().zip(&qpos0) {
+                assert!(
+                    (q - q0).abs() <= qpos_scale,
+                    "{id} seed {seed}: qpos {q} from {q0}"
+                );
+                widest_qpos = widest_qpos.max((q - q0).abs());
+            }
+            if let Some(scale) = qvel_scale {
+                for v in &qvel[..nv] {
+                    assert!(v.abs() <= scale, "{id} seed {seed}: qvel {v}");
+                    widest_qvel = widest_qvel.max(v.abs());
+                }
+                assert!(widest_qvel > 0.0 || seed < 10, "{id}: no qvel noise");
+            }
+        }
+        assert!(
+            widest_qpos >= qpos_scale / 2.0,
+            "{id}: qpos noise {widest_qpos}"
+        );
+        if let Some(scale) = qvel_scale {
+            assert!(widest_qvel >= scale / 2.0, "{id}: qvel noise {widest_qvel}");
+        }
+    }
+}

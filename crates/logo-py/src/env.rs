@@ -14,6 +14,13 @@ pub fn env_ids() -> Vec<String> {
     logo_envs::all_env_ids()
 }
 
+/// The time limit Gymnasium registers an id's task with (1000; Reacher 50, Pusher 100),
+/// without loading its model.
+#[pyfunction]
+pub fn default_max_episode_steps(id: &str) -> PyResult<usize> {
+    logo_envs::default_max_episode_steps(id).map_err(env_error)
+}
+
 /// The factory of a Rust env for Python. A `python:` id names an env a training run
 /// registered: its copies are the trainer's, and from Python it is used as itself.
 /// `max_episode_steps`: `None` for the limit Gymnasium registers the task with.
@@ -108,13 +115,22 @@ impl RustEnv {
         f64s(py, &self.obs)
     }
 
-    /// `(obs, reward, terminated, truncated, dense_reward, x_position)`.
+    /// `(obs, reward, terminated, truncated, dense_reward, x_position, goal_distance)`,
+    /// the last `None` for a task without a target.
     #[allow(clippy::type_complexity)]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
         action: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, f64, bool, bool, f64, f64)> {
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        f64,
+        bool,
+        bool,
+        f64,
+        f64,
+        Option<f64>,
+    )> {
         let action = action
             .as_slice()
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
@@ -126,6 +142,7 @@ impl RustEnv {
             step.truncated,
             step.info.dense_reward,
             step.info.x_position,
+            step.info.goal_distance,
         ))
     }
 

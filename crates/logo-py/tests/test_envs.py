@@ -146,3 +146,15 @@ def test_bad_input_raises_python_exceptions_naming_it():
     # The env is still usable after each error.
     obs, *_ = env.step(np.zeros(3))
     assert np.all(np.isfinite(obs))
+
+
+def test_max_episode_steps_is_the_tasks_none_or_a_number():
+    assert logo_rl.LogoEnv("Reacher-v5")._env.max_episode_steps == 50
+    assert logo_rl.LogoEnv("Reacher-v5", max_episode_steps=7)._env.max_episode_steps == 7
+    with pytest.raises(ValueError, match="expected 'task', None or a number"):
+        logo_rl.LogoEnv("Hopper-v4", max_episode_steps="forever")
+    venv = logo_rl.LogoVectorEnv("Pusher-v5", num_envs=2, threads=1)
+    venv.reset(seed=0)
+    for step in range(1, 101):
+        *_, truncated, _ = venv.step(np.zeros((2, 7)))
+        assert truncated.all() == (step == 100)

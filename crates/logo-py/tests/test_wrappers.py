@@ -56,6 +56,23 @@ def test_goal_pays_as_the_rust_kind(env_id, radius):
     assert 0 < sum(paid) < len(paid), "the target was never, or always, within the radius"
 
 
+def test_goal_reads_a_logo_rl_envs_goal_distance():
+    # The wrapper over logo_rl's own Reacher pays as the Rust kind does, from its info.
+    rng = np.random.default_rng(4)
+    ours = SparseReward(gym.make("logo_rl/Reacher-v5"), "goal", radius=0.1)
+    rust = logo_rl.LogoEnv("Reacher-v5+goal(0.1)")
+    ours.reset(seed=3)
+    rust.reset(seed=3)
+    paid = []
+    for _ in range(50):
+        action = rng.uniform(-1, 1, size=2)
+        _, r, *_ = ours.step(action)
+        _, rr, *_ = rust.step(action)
+        assert r == rr
+        paid.append(r)
+    assert 0 < sum(paid) < len(paid)
+
+
 def test_bad_kinds_are_errors():
     env = gym.make("Hopper-v4")
     with pytest.raises(ValueError, match="unknown sparse kind 'walk'"):

@@ -157,8 +157,8 @@ impl Evaluator {
     /// names another.
     fn new(config: &TrainConfig, spec: &EnvSpec) -> Result<Self, TrainError> {
         let env = config.evaluated_env().factory()?.build()?;
-        if env.spec().obs_dim != spec.obs_dim || env.spec().act_dim != spec.act_dim {
-            config.check_eval_env_dims()?;
+        if let Some(mismatch) = crate::config::dims_mismatch(spec, env.spec()) {
+            return Err(mismatch.into());
         }
         Ok(Self {
             env,

@@ -8,11 +8,27 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from ._logo_rl import RustEnv, env_ids
+from ._logo_rl import RustEnv, default_max_episode_steps, env_ids
 
 NAMESPACE = "logo_rl"
 DEFAULT_SIZE = 480  # Gymnasium's MuJoCo frames
 NO_LIMIT = 1 << 62
+
+
+def rust_limit(max_episode_steps: int | str | None) -> int | None:
+    """The env's own time limit as the Rust env takes it: ``"task"`` (the default) for the
+    limit Gymnasium registers the task with (1000; Reacher 50, Pusher 100), ``None`` for
+    none of its own (``gymnasium.make``'s ``TimeLimit``, whatever ``max_episode_steps`` it
+    was given, ends the episodes), or a number of steps."""
+    if max_episode_steps == "task":
+        return None
+    if max_episode_steps is None:
+        return NO_LIMIT
+    if isinstance(max_episode_steps, str):
+        raise ValueError(
+            f"max_episode_steps={max_episode_steps!r}: expected 'task', None or a number of steps"
+        )
+    return max_episode_steps
 
 
 class LogoEnv(gym.Env):
@@ -26,7 +42,10 @@ class LogoEnv(gym.Env):
     env would draw.
 
     ``info`` holds ``dense_reward`` (the task's Gymnasium reward, whatever a sparse id pays)
-    and ``x_position`` (``qpos[0]`` after the step).
+    and ``x_position`` (``qpos[0]`` after the step); Reacher's and Pusher's also
+    ``goal_distance`` (fingertip or object to target, in the plane: what the goal kind pays
+    on). ``max_episode_steps``: ``"task"`` (Gymnasium's registered limit), ``None`` (none of
+    the env's own) or a number of steps.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 125}
@@ -34,21 +53,15 @@ class LogoEnv(gym.Env):
     def __init__(
         self,
         env_id: str,
-        max_episode_steps: int | None | str = "task",
+        max_episode_steps: int | str | None = "task",
         render_mode: str | None = None,
         width: int = DEFAULT_SIZE,
         height: int = DEFAULT_SIZE,
     ):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode={render_mode!r}: logo_rl envs render 'rgb_array' only")
-        # "task": the limit Gymnasium registers the task with (1000; Reacher 50, Pusher
-        # 100). None: no limit of the env's own (gymnasium.make's TimeLimit, whatever
-        # max_episode_steps it was given, ends the episodes).
-        if max_episode_steps == "task":
-            max_episode_steps = None
-        elif max_episode_steps is None:
-            max_episode_steps = NO_LIMIT
-        self._env = RustEnv(env_id, max_episode_steps)
+        self._env = RustEnv(env_id, rust_limit(max_episode_steps))
+        self.last_goal_distance = float("nan")  # the last step's, for the goal kind
         self.env_id = self._env.id
         self.render_mode = render_mode
         self.width, self.height = width, height
@@ -80,8 +93,10 @@ class LogoEnv(gym.Env):
             raise ValueError(
                 f"action of {action.size} values; {self.env_id} takes {self._env.act_dim}"
             )
-        obs, reward, terminated, truncated, dense, x = self._env.step(action)
+        obs, reward, terminated, truncated, dense, x, goal = self._env.step(action)
         info = {"dense_reward": dense, "x_position": x}
+        if goal is not None:
+            info["goal_distance"] = self.last_goal_distance = goal
         return obs, reward, terminated, truncated, info
 
     def set_state(self, qpos, qvel) -> None:
@@ -112,7 +127,7 @@ def register_envs() -> list[str]:
                 id=name,
                 entry_point="logo_rl.envs:LogoEnv",
                 kwargs={"env_id": env_id, "max_episode_steps": None},
-                max_episode_steps=RustEnv(env_id).max_episode_steps,
+                max_episode_steps=default_max_episode_steps(env_id),
             )
         names.append(name)
     return names

@@ -11,6 +11,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ._logo_rl import RustVecEnv
+from .envs import rust_limit
 
 
 class LogoVectorEnv(VectorEnv):
@@ -21,6 +22,7 @@ class LogoVectorEnv(VectorEnv):
     the same ``step``; its last observation is in ``info["final_obs"]`` (where
     ``info["_final_obs"]``). ``info`` also holds ``dense_reward`` and ``x_position`` per
     copy. ``reset(seed=s)`` seeds copy i with ``s + i``, from the project's own stream.
+    ``max_episode_steps``: as ``LogoEnv``'s (``"task"``: Gymnasium's registered limit).
     """
 
     metadata = {"autoreset_mode": AutoresetMode.SAME_STEP}
@@ -30,10 +32,10 @@ class LogoVectorEnv(VectorEnv):
         env_id: str,
         num_envs: int,
         threads: int | None = None,
-        max_episode_steps: int | None = None,
+        max_episode_steps: int | str | None = "task",
     ):
         threads = min(num_envs, os.cpu_count() or 1) if threads is None else threads
-        self._venv = RustVecEnv(env_id, num_envs, threads, 0, max_episode_steps)
+        self._venv = RustVecEnv(env_id, num_envs, threads, 0, rust_limit(max_episode_steps))
         one = self._venv
         self.env_id = one.id
         self.num_envs = num_envs

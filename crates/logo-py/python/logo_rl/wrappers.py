@@ -16,6 +16,17 @@ def _mujoco_x(env: gym.Env) -> float:
     return float(env.unwrapped.data.qpos[0])
 
 
+def _info_goal_distance(env: gym.Env) -> Callable[[gym.Env], float] | None:
+    """A logo_rl env of Reacher or Pusher reports its goal distance in ``info``: read from
+    the last step's."""
+    from .envs import LogoEnv
+
+    task = getattr(env.unwrapped, "env_id", "").split("+")[0].split("-")[0]
+    if not isinstance(env.unwrapped, LogoEnv) or task not in ("Reacher", "Pusher"):
+        return None
+    return lambda env: env.unwrapped.last_goal_distance
+
+
 def _mujoco_goal_distance(env: gym.Env) -> Callable[[gym.Env], float] | None:
     """Reacher's fingertip-to-target or Pusher's object-to-goal distance in the plane, as
     the Rust envs measure it; None for an env with neither pair of bodies."""
@@ -83,7 +94,7 @@ class SparseReward(gym.Wrapper):
         if kind == "goal":
             if radius is None or not (float(radius) > 0 and float(radius) < float("inf")):
                 raise ValueError(f"kind 'goal' needs a positive finite radius (metres), got {radius!r}")
-            goal_distance = goal_distance or _mujoco_goal_distance(env)
+            goal_distance = goal_distance or _mujoco_goal_distance(env) or _info_goal_distance(env)
             if goal_distance is None:
                 raise ValueError(
                     "kind 'goal' needs goal_distance= for an env other than Gymnasium's Reacher "
