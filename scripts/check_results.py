@@ -335,6 +335,15 @@ def agrees(document, computed):
     return all(abs(d - c) <= 0.5 * unit * (1 + 1e-9) + 1e-12 for (d, unit), (c, _) in zip(doc, data))
 
 
+def interval_agrees(cell, point, interval, tolerance):
+    """A cell "POINT [LO, HI]": the point exact as printed, each end within `tolerance`
+    (plus half its printed unit) of a bootstrap recomputed here."""
+    doc = numbers(cell)
+    return len(doc) >= 3 and abs(doc[0][0] - point) <= 0.5 * doc[0][1] + 1e-9 and all(
+        abs(d - e) <= tolerance + 0.5 * unit for (d, unit), e in zip(doc[1:3], interval)
+    )
+
+
 # ---------------------------------------------------------------- tables
 
 def tables(lines):
@@ -514,13 +523,9 @@ def check_table(kind, opts, header, body):
                 stat = statistics.fmean if m.group(3) == "mean" else iqm
                 point = stat(values)
                 lo, hi = bootstrap_interval(values, stat)
-                doc = numbers(body[r][c])
                 checked += 1
                 spread = max(values) - min(values)
-                ok = len(doc) >= 3 and abs(doc[0][0] - point) <= 0.5 * doc[0][1] + 1e-9 and all(
-                    abs(d - e) <= 0.05 * spread + 0.5 * unit for (d, unit), e in zip(doc[1:3], (lo, hi))
-                )
-                if not ok:
+                if not interval_agrees(body[r][c], point, (lo, hi), 0.05 * spread):
                     wrong.append((r + 1, header[c], body[r][c], f"{point:.0f} [{lo:.0f}, {hi:.0f}]"))
     elif kind == "compare":
         # `logo summary --compare A B`: a row per budget, P(A > B) and the IQM difference
@@ -542,12 +547,8 @@ def check_table(kind, opts, header, body):
             for c, stat, tolerance in ((2, probability_of_improvement, 0.05), (3, iqm_diff, 0.05 * spread)):
                 point = stat(xs, ys)
                 lo, hi = bootstrap_two(xs, ys, stat)
-                doc = numbers(row[c])
                 checked += 1
-                ok = len(doc) >= 3 and abs(doc[0][0] - point) <= 0.5 * doc[0][1] + 1e-9 and all(
-                    abs(d - e) <= tolerance + 0.5 * unit for (d, unit), e in zip(doc[1:3], (lo, hi))
-                )
-                if not ok:
+                if not interval_agrees(row[c], point, (lo, hi), tolerance):
                     wrong.append((r + 1, header[c], row[c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
     elif kind == "arms":
         specs = opts["rows"].split(";")
@@ -581,12 +582,8 @@ def check_table(kind, opts, header, body):
                 point = stat(xs, ys)
                 lo, hi = (bootstrap_two(xs, ys, stat) if ys else
                           bootstrap_interval(xs, lambda v: stat(v, [])))
-                doc = numbers(row[c])
                 checked += 1
-                ok = len(doc) >= 3 and abs(doc[0][0] - point) <= 0.5 * doc[0][1] + 1e-9 and all(
-                    abs(d - e) <= tolerance + 0.5 * unit for (d, unit), e in zip(doc[1:3], (lo, hi))
-                )
-                if not ok:
+                if not interval_agrees(row[c], point, (lo, hi), tolerance):
                     wrong.append((r + 1, header[c], row[c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
     elif kind == "cells":
         for key, spec in opts.items():
