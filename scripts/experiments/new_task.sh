@@ -18,6 +18,7 @@
 # Settings, as environment variables (defaults in brackets):
 #   OUT [runs/new-task/<task>]  LOGO [./target/release/logo]
 #   BEHAVIOUR_ITERATIONS [500]  BEHAVIOUR_SAMPLES [5000]  EPISODES [20]
+#   BEHAVIOUR_LOG_STD [the config default]: the behaviour policy's initial log sigma
 #   ITERATIONS [100]  SAMPLES [20000]  SEEDS [0..3]  JOBS [1]
 #   DELTA0 [0.01]  ALPHA [0.95]  WARMUP [50]  (LOGO's guidance: the paper's Hopper values;
 #   it chose δ_0 per task, 0.01 to 0.2; docs/new-task.md says how to choose them)
@@ -94,6 +95,9 @@ samples_per_iter = ${BEHAVIOUR_SAMPLES:-5000}
 eval_steps = ${BEHAVIOUR_SAMPLES:-5000}
 max_kl = 0.01
 EOF
+  if [ -n "${BEHAVIOUR_LOG_STD:-}" ]; then
+    echo "log_std_init = $BEHAVIOUR_LOG_STD" >> "$configs/behaviour.toml"
+  fi
   local behaviour="$out/behaviour"
   # Stopped at the target, then killed before `done` was written: that policy stands.
   if grep -qs "reached --stop-at-return" "$out/behaviour.log"; then touch "$behaviour/done"; fi
