@@ -12,7 +12,7 @@
 //! | `discriminator.rs` | the discriminator D and its training |
 //! | `episode.rs` | one episode of a fixed policy; the evaluation |
 //! | `streams.rs` | the table of random streams |
-//! | `trainer/` | the iteration (`iteration.rs`) over the learner (`learner.rs`), its resources (`resources.rs`) and its recorder (`recorder.rs`); the learner's state, which a checkpoint is (`learner_state.rs`) |
+//! | `trainer/` | the iteration (`iteration.rs`) over the learner (`learner.rs`), its resources (`resources.rs`) and its recorder (`recorder.rs`, and `record.rs`: an iteration's metrics row and checkpoints); the learner's state, which a checkpoint is (`learner_state.rs`) |
 //! | `metrics.rs`, `run_dir.rs`, `tensorboard.rs` | `metrics.csv`, TensorBoard's event file and the run's folder |
 //! | `config.rs`, `validate.rs` | the TOML config, and the checks its tables share |
 

@@ -11,25 +11,23 @@
 //! 5. guidance step (`[guidance.update]`'s kind, KL ≈ δ_k, ratio against π_k) → π_{k+1};
 //! 6. one discriminator update;
 //! 7. both critics fitted to this batch's returns (for iteration k+1's advantages);
-//! 8. evaluation of π_{k+1} on the dense env with the mean action; metrics row, checkpoint.
+//! 8. evaluation of π_{k+1} on the dense env with the mean action; metrics row, checkpoint
+//!    (`record.rs`).
 //!
 //! Without `[guidance]` it is the improvement step alone (TRPO, PPO, ...). Which of steps
 //! 4-8 run beside which is decided in one place, [`Trainer::steps_and_fits`], by the
 //! run's [`Schedule`](super::Schedule).
-
-use std::time::Instant;
 
 use burn::tensor::Tensor;
 use logo_nn::flops::in_phase;
 use logo_nn::{Engine, Policy};
 
 use super::Trainer;
-use super::learner::CriticFits;
+use super::learner::{Advantages, CriticFits, advantages};
+use super::record::Stopwatch;
 use super::resources::{Collected, Resources};
 use crate::config::TrainConfig;
-use crate::critic::CriticSet;
 use crate::episode::Evaluation;
-use crate::gae::{GaeInput, gae, normalise};
 use crate::guidance::Guidance;
 use crate::metrics::IterationMetrics;
 use crate::policy_update::{StepBatch, StopReason, UpdateState, UpdateStats};
@@ -203,161 +201,36 @@ impl<E: Engine> Trainer<E> {
             next,
         })
     }
-
-    /// Iteration `k`'s row of metrics.csv, and its checkpoint when one is due.
-    fn record(
-        &mut self,
-        k: usize,
-        timed: IterationMetrics,
-        batch: &Batch,
-        stream: Option<&GuidanceStream<E>>,
-        later: Later,
-    ) -> Result<IterationMetrics, TrainError> {
-        check_critic_fits(&later.fits, stream.is_some()).map_err(|e| self.stopped(e))?;
-        let row = self.metrics_row(k, timed, batch, stream, &later);
-        let every = self.config.checkpoint_every;
-        let due = self
-            .recorder
-            .append(&row, self.learner.iteration, self.done(), every)?;
-        self.next_batch = later.next;
-        if let Some(eval_return) = due.best {
-            self.save_checkpoint(&self.recorder.best_path())?;
-            self.recorder.best_saved(eval_return);
-        }
-        if due.checkpoint {
-            self.save_checkpoint(&self.recorder.checkpoint_path())?;
-            self.recorder.checkpoint_saved(self.learner.iteration);
-        }
-        Ok(row)
-    }
-
-    /// The metrics.csv row of iteration `k` (the timings of steps 1-3 are in `timed`).
-    fn metrics_row(
-        &self,
-        k: usize,
-        timed: IterationMetrics,
-        batch: &Batch,
-        stream: Option<&GuidanceStream<E>>,
-        later: &Later,
-    ) -> IterationMetrics {
-        let Later {
-            steps,
-            fits,
-            evaluation,
-            t_evaluation,
-            ..
-        } = later;
-        let eval = |of: fn(&Evaluation) -> f64| evaluation.as_ref().map_or(f64::NAN, of);
-        let mut row = IterationMetrics {
-            iteration: k,
-            samples: self.learner.samples,
-            wall_s: self.recorder.wall_s(),
-            episodes: batch.episode_returns.len(),
-            train_sparse_return: batch.mean_return(),
-            train_dense_return: batch.mean_dense_return(),
-            eval_dense_return: eval(|e| e.dense_return),
-            eval_return: eval(|e| e.return_),
-            eval_moved: eval(|e| e.moved),
-            eval_action_rms: eval(|e| e.action_rms),
-            delta_k: self
-                .learner
-                .guidance
-                .as_ref()
-                .map_or(0.0, |g| g.schedule.delta),
-            guidance_reward: stream.map_or(f64::NAN, |s| s.mean_reward),
-            mean_log_std: self.learner.policy.log_std.iter().sum::<f64>()
-                / self.learner.policy.act_dim() as f64,
-            critic_loss: fits.env_loss,
-            guidance_critic_loss: fits.guidance_loss,
-            disc_loss: steps.disc_loss.unwrap_or(f64::NAN),
-            t_critics: fits.seconds,
-            t_policy_step: steps.t_policy_step,
-            t_guidance: steps.t_guidance,
-            t_discriminator: steps.t_discriminator,
-            t_evaluation: *t_evaluation,
-            ..timed
-        };
-        row.improvement(&steps.improvement);
-        row.guidance(steps.guidance.as_ref());
-        row
-    }
-}
-
-/// Normalised advantages and the critic's regression targets of one reward stream.
-struct Advantages {
-    normalised: Vec<f64>,
-    returns: Vec<f64>,
 }
 
 /// Step 3's output while the guidance step runs.
-struct GuidanceStream<E: Engine> {
+pub(super) struct GuidanceStream<E: Engine> {
     advantages: Advantages,
     discriminator_inputs: Option<E::Rows>,
-    mean_reward: f64,
+    pub(super) mean_reward: f64,
 }
 
 /// What steps 4-6 did.
-struct PolicySteps {
-    improvement: UpdateStats,
-    guidance: Option<UpdateStats>,
-    disc_loss: Option<f64>,
-    t_policy_step: f64,
-    t_guidance: f64,
-    t_discriminator: f64,
+pub(super) struct PolicySteps {
+    pub(super) improvement: UpdateStats,
+    pub(super) guidance: Option<UpdateStats>,
+    pub(super) disc_loss: Option<f64>,
+    pub(super) t_policy_step: f64,
+    pub(super) t_guidance: f64,
+    pub(super) t_discriminator: f64,
 }
 
 /// What steps 4-8 produced.
-struct Later {
-    steps: PolicySteps,
-    fits: CriticFits,
-    evaluation: Option<Evaluation>,
-    t_evaluation: f64,
-    next: Option<Collected>,
-}
-
-/// GAE for one reward stream with `critic` as it stands.
-fn advantages<E: Engine>(
-    engine: &E,
-    config: &TrainConfig,
-    critic: &CriticSet<E>,
-    batch: &Batch,
-    obs: &E::Rows,
-    rewards: &[f64],
-) -> Advantages {
-    let values = critic.values(engine, obs);
-    let mut truncation_values = vec![0.0; batch.len()];
-    if !batch.truncations.is_empty() {
-        let rows: Vec<f64> = batch
-            .truncations
-            .iter()
-            .flat_map(|(_, o)| o.iter().copied())
-            .collect();
-        let v = critic.values(engine, &engine.rows(&rows, batch.obs_dim));
-        for ((t, _), value) in batch.truncations.iter().zip(v) {
-            truncation_values[*t] = value;
-        }
-    }
-    let input = GaeInput {
-        rewards,
-        values: &values,
-        terminated: &batch.terminated,
-        episode_end: &batch.episode_end,
-        truncation_values: &truncation_values,
-    };
-    let (adv, returns) = gae(
-        &input,
-        config.gamma,
-        config.gae_lambda,
-        config.cross_episode_bootstrap,
-    );
-    Advantages {
-        normalised: normalise(&adv),
-        returns,
-    }
+pub(super) struct Later {
+    pub(super) steps: PolicySteps,
+    pub(super) fits: CriticFits,
+    pub(super) evaluation: Option<Evaluation>,
+    pub(super) t_evaluation: f64,
+    pub(super) next: Option<Collected>,
 }
 
 /// Stops the run when a step left a non-finite number behind.
-fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError> {
+pub(super) fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError> {
     if ok {
         Ok(())
     } else {
@@ -380,23 +253,6 @@ fn take_step<E: Engine>(
         "policy's parameters or outputs",
     )?;
     Ok(stats)
-}
-
-/// Seconds between laps, for the per-phase times.
-struct Stopwatch(Instant);
-
-impl Stopwatch {
-    fn start() -> Self {
-        Self(Instant::now())
-    }
-
-    /// Seconds since the start or the previous lap.
-    fn lap(&mut self) -> f64 {
-        let now = Instant::now();
-        let seconds = (now - self.0).as_secs_f64();
-        self.0 = now;
-        seconds
-    }
 }
 
 /// What steps 4-6 of iteration `k` read.
@@ -502,21 +358,4 @@ fn discriminator_step<E: Engine>(
         )?;
     }
     Ok(loss)
-}
-
-/// Step 7's check: a critic fit that left a non-finite loss stops the run.
-fn check_critic_fits(fits: &CriticFits, guidance: bool) -> Result<(), TrainError> {
-    finite(
-        fits.env_loss.is_finite(),
-        "the critic fit",
-        "env critic's parameters or loss",
-    )?;
-    if guidance {
-        finite(
-            fits.guidance_loss.is_finite(),
-            "the critic fit",
-            "guidance critic's parameters or loss",
-        )?;
-    }
-    Ok(())
 }

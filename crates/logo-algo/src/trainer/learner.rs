@@ -12,9 +12,11 @@ use super::learner_state::{EngineSpan, GuidanceState, LearnerState, Networks, Sa
 use crate::config::{GuidanceConfig, TrainConfig};
 use crate::critic::CriticSet;
 use crate::discriminator::DiscriminatorTrainer;
+use crate::gae::{GaeInput, gae, normalise};
 use crate::guidance::{Guidance, GuidanceSignal};
 use crate::policy_update::UpdateState;
 use crate::run_dir::TrainError;
+use crate::sampler::Batch;
 use crate::streams::{Stream, generator};
 
 pub(super) struct Learner<E: Engine> {
@@ -230,5 +232,52 @@ impl<E: Engine> Critics<E> {
             guidance_loss,
             seconds: clock.elapsed().as_secs_f64(),
         }
+    }
+}
+
+/// Normalised advantages and the critic's regression targets of one reward stream.
+pub(super) struct Advantages {
+    pub(super) normalised: Vec<f64>,
+    pub(super) returns: Vec<f64>,
+}
+
+/// GAE for one reward stream with `critic` as it stands.
+pub(super) fn advantages<E: Engine>(
+    engine: &E,
+    config: &TrainConfig,
+    critic: &CriticSet<E>,
+    batch: &Batch,
+    obs: &E::Rows,
+    rewards: &[f64],
+) -> Advantages {
+    let values = critic.values(engine, obs);
+    let mut truncation_values = vec![0.0; batch.len()];
+    if !batch.truncations.is_empty() {
+        let rows: Vec<f64> = batch
+            .truncations
+            .iter()
+            .flat_map(|(_, o)| o.iter().copied())
+            .collect();
+        let v = critic.values(engine, &engine.rows(&rows, batch.obs_dim));
+        for ((t, _), value) in batch.truncations.iter().zip(v) {
+            truncation_values[*t] = value;
+        }
+    }
+    let input = GaeInput {
+        rewards,
+        values: &values,
+        terminated: &batch.terminated,
+        episode_end: &batch.episode_end,
+        truncation_values: &truncation_values,
+    };
+    let (adv, returns) = gae(
+        &input,
+        config.gamma,
+        config.gae_lambda,
+        config.cross_episode_bootstrap,
+    );
+    Advantages {
+        normalised: normalise(&adv),
+        returns,
     }
 }

@@ -9,8 +9,8 @@
 //!   way ([`Trainer::new`], [`Trainer::resume`]);
 //! - the **resources** (`resources.rs`): the engine, the worker threads, the env copies
 //!   and their sampler, the evaluation env;
-//! - the **recorder** (`recorder.rs`): the run folder, metrics.csv, TensorBoard, and when
-//!   checkpoints are due.
+//! - the **recorder** (`recorder.rs`; an iteration's row and checkpoints in `record.rs`):
+//!   the run folder, metrics.csv, TensorBoard, and when checkpoints are due.
 //!
 //! Which steps of an iteration run beside which is the [`Schedule`]'s business
 //! (`schedule.rs`); the arithmetic is the same under either schedule.
@@ -18,6 +18,7 @@
 mod iteration;
 mod learner;
 mod learner_state;
+mod record;
 mod recorder;
 mod resources;
 mod schedule;
