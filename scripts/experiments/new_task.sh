@@ -20,6 +20,7 @@
 #   BEHAVIOUR_ITERATIONS [500]  BEHAVIOUR_SAMPLES [5000]  EPISODES [20]
 #   BEHAVIOUR_LOG_STD [the config default]: the behaviour policy's initial log sigma
 #   ITERATIONS [100]  SAMPLES [20000]  SEEDS [0..3]  JOBS [1]
+#   LOG_STD [the config default]: LOGO's and TRPO's initial log sigma on the sparse task
 #   DELTA0 [0.01]  ALPHA [0.95]  WARMUP [50]  (LOGO's guidance: the paper's Hopper values;
 #   it chose δ_0 per task, 0.01 to 0.2; docs/new-task.md says how to choose them)
 set -euo pipefail
@@ -102,7 +103,7 @@ EOF
   # Stopped at the target, then killed before `done` was written: that policy stands.
   if grep -qs "reached --stop-at-return" "$out/behaviour.log"; then touch "$behaviour/done"; fi
   if [ ! -f "$behaviour/done" ]; then
-    local stop=(--stop-at-return "$target" --stop-metric train)
+    local stop=(--stop-at-return="$target" --stop-metric train)  # `=`: a negative target is not a flag
     if [ -f "$behaviour/checkpoint.safetensors" ]; then
       run "$logo" train --resume "$behaviour" "${stop[@]}" --no-tensorboard | tee -a "$out/behaviour.log"
     else
@@ -129,7 +130,8 @@ EOF
   common="$(cat <<EOF
 iterations = ${ITERATIONS:-100}
 samples_per_iter = ${SAMPLES:-20000}
-max_kl = 0.01
+max_kl = 0.01${LOG_STD:+
+log_std_init = $LOG_STD}
 
 [env]
 id = "$task"
