@@ -13,7 +13,9 @@ fn new_task_script_goes_from_a_dense_task_to_logo_and_trpo_runs() {
     let run = || {
         Command::new("bash")
             .arg(&script)
-            .args(["InvertedDoublePendulum-v4", "distance(0.05)", "30"])
+            // A negative target (as Reacher's) is a value, not a flag; IDP's first
+            // iteration reaches it.
+            .args(["InvertedDoublePendulum-v4", "distance(0.05)", "-30"])
             .current_dir(&root)
             .env("LOGO", env!("CARGO_BIN_EXE_logo"))
             .env("OUT", &out)
@@ -26,6 +28,7 @@ fn new_task_script_goes_from_a_dense_task_to_logo_and_trpo_runs() {
                 ("SEEDS", "0..2"),
                 ("WARMUP", "0"),
                 ("DELTA0", "0.2"),
+                ("LOG_STD", "-0.5"),
             ])
             .output()
             .unwrap()
@@ -58,6 +61,11 @@ fn new_task_script_goes_from_a_dense_task_to_logo_and_trpo_runs() {
         config.contains("sparse = { kind = \"distance\", threshold = 0.05 }"),
         "{config}"
     );
+    assert!(config.contains("log_std_init = -0.5"), "{config}");
+    let trpo = std::fs::read_to_string(out.join("configs/trpo.toml")).unwrap();
+    assert!(trpo.contains("log_std_init = -0.5"), "{trpo}");
+    let stdout = String::from_utf8_lossy(&first.stdout);
+    assert!(stdout.contains("reached --stop-at-return -30"), "{stdout}");
     let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
     assert!(
         summary.starts_with("| configuration") && summary.contains("| logo |"),
