@@ -35,6 +35,8 @@ holds seed*/ runs, and a .csv path is one run):
                                   below, else "mixed, K of N above"; then "(MEAN vs
                                   CURVE)". Until a row has N seeds that reach the budget
                                   (GROUP "-": none yet), its cell must hold no verdict.
+  (intervals, compare: a GROUP of PATH@COLUMN reads that metrics.csv column, as
+   `logo summary --metric COLUMN`)
   intervals rows=GROUP;...        `logo summary`'s interval table: per group and column
            window=W               ("final: mean [95% CI]", "at 2.00M: IQM [95% CI]"), the
                                   mean or interquartile mean over seeds of each run's value
@@ -59,6 +61,11 @@ holds seed*/ runs, and a .csv path is one run):
                                   (`logo summary --window W --at BUDGET --compare GROUP
                                   BASE`); the seed count exact, each point exact as
                                   printed, interval ends as in intervals and compare
+  evaljson rows=GROUP;...         `logo summary`'s end-of-run table from each seed's
+                                  eval.json: runs exact; each "[95% CI]" cell's mean
+                                  exact as printed (a lone run: its value), its ends
+                                  within 5% of the seeds' range of a bootstrap of the
+                                  mean; success rates exact as printed
   cells    rXcY=STAT@GROUP ...    single cells (X, Y 1-based over body rows and columns)
            [quoted=...]
   evals    runs=PATH;PATH;...     one row per run: its eval-20.txt (`logo eval` output),
@@ -71,6 +78,7 @@ Usage: scripts/check_results.py [docs/results.md]
 """
 
 import csv
+import json
 import math
 import re
 import statistics
@@ -120,6 +128,12 @@ def group_runs(path):
 
 def evaluations(rows, metric="eval_dense_return"):
     return [(r["samples"], r[metric]) for r in rows if math.isfinite(r[metric])]
+
+
+def group_points(spec):
+    """Each run's (samples, value) points of a group "PATH[@COLUMN]"."""
+    path, _, metric = spec.partition("@")
+    return [evaluations(rows, metric or "eval_dense_return") for rows in group_runs(path)]
 
 
 # ---------------------------------------------------------------- statistics
@@ -509,7 +523,7 @@ def check_table(kind, opts, header, body):
     elif kind == "intervals":
         window = int(opts["window"])
         for r, group in enumerate(opts["rows"].split(";")):
-            runs = [evaluations(rows) for rows in group_runs(group)]
+            runs = group_points(group)
             for c in range(2, len(header)):
                 m = re.fullmatch(r"(final|at (.+?)(?:, mean of \d+)?): (mean|IQM) \[95% CI\]",
                                  header[c].strip())
@@ -531,9 +545,7 @@ def check_table(kind, opts, header, body):
         # `logo summary --compare A B`: a row per budget, P(A > B) and the IQM difference
         # A − B, each with its bootstrap interval (checked to 5% of the spread, as above).
         window = int(opts["window"])
-        a_runs, b_runs = (
-            [evaluations(rows) for rows in group_runs(g)] for g in opts["groups"].split(";")
-        )
+        a_runs, b_runs = (group_points(g) for g in opts["groups"].split(";"))
         for r, row in enumerate(body):
             label = row[0].strip()
             m = re.fullmatch(r"final|at (.+?)(?:, mean of \d+)?", label)
@@ -585,6 +597,42 @@ def check_table(kind, opts, header, body):
                 checked += 1
                 if not interval_agrees(row[c], point, (lo, hi), tolerance):
                     wrong.append((r + 1, header[c], row[c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
+    elif kind == "evaljson":
+        columns = {
+            "final: return": ("final", "mean_action", "return"),
+            "final: dense return": ("final", "mean_action", "dense_return"),
+            "final: dense, clipped": ("final", "clipped", "dense_return"),
+            "best: return": ("best", "mean_action", "return"),
+            "best: dense return": ("best", "mean_action", "dense_return"),
+            "final: success": ("final", "mean_action", "success_rate"),
+            "best: success": ("best", "mean_action", "success_rate"),
+        }
+        groups = opts["rows"].split(";")
+        if len(groups) != len(body):
+            raise SystemExit(f"evaljson: {len(groups)} groups for {len(body)} rows")
+        for r, group in enumerate(groups):
+            base = ROOT / "docs/results" / group
+            docs = [json.loads(p.read_text()) for p in sorted(base.glob("seed*/eval.json"))]
+            if not docs:
+                raise SystemExit(f"evaljson: no seed*/eval.json under {base}")
+            compare(r, 1, str(len(docs)))
+            for c in range(2, len(header)):
+                name = header[c].replace(" [95% CI]", "").strip()
+                if name not in columns:
+                    raise SystemExit(f"evaljson: column {header[c]!r} is not `logo summary`'s")
+                policy, acting, key = columns[name]
+                values = [d["policies"][policy][acting]["summary"][key] for d in docs]
+                if key == "success_rate":
+                    compare(r, c, f"{100 * statistics.fmean(values)!r}%")
+                elif len(values) == 1:
+                    compare(r, c, repr(values[0]))
+                else:
+                    point = statistics.fmean(values)
+                    lo, hi = bootstrap_interval(values, statistics.fmean)
+                    checked += 1
+                    spread = max(values) - min(values)
+                    if not interval_agrees(body[r][c], point, (lo, hi), 0.05 * spread):
+                        wrong.append((r + 1, header[c], body[r][c], f"{point:.0f} [{lo:.0f}, {hi:.0f}]"))
     elif kind == "cells":
         for key, spec in opts.items():
             m = re.fullmatch(r"r(\d+)c(\d+)", key)

@@ -73,6 +73,20 @@ ARMS = """<!-- check arms rows=five-seeds-view/walker2d/LOGO@10M:10;five-seeds-v
 | Walker2d | 10M | LOGO+PPO+CDQ | 5 | 507 [403, 1376] | 0.04 [0.00, 0.24] | -2086 [-2998, -940] |
 """
 
+# `logo summary`'s end-of-run table from each seed's eval.json.
+EVALJSON = """<!-- check evaljson rows=python-idp -->
+| configuration | runs | final: return [95% CI] | final: dense return [95% CI] | final: dense, clipped [95% CI] | best: return [95% CI] | best: dense return [95% CI] | final: success | best: success |
+| --- | --- | --- | --- | --- | --- | --- | --- | --- |
+| python-idp | 5 | 7406 [4763, 9003] | 7406 [4763, 9003] | 7406 [4763, 9003] | 7517 [4447, 9270] | 7517 [4447, 9270] | 100% | 100% |
+"""
+
+# An interval table of another metrics.csv column (`logo summary --metric`).
+METRIC_INTERVALS = """<!-- check intervals window=5 rows=python-idp@train_sparse_return -->
+| configuration | seeds | final: mean [95% CI] | final: IQM [95% CI] |
+| --- | --- | --- | --- |
+| python-idp | 5 | 7595 [4672, 9357] | 8855 [3984, 9357] |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -85,7 +99,8 @@ def check(text):
 
 def main():
     failures = []
-    goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS)
+    goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS,
+             EVALJSON, METRIC_INTERVALS)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -104,6 +119,12 @@ def main():
         "a wrong interval mean": INTERVALS.replace("2554 [", "2560 ["),
         "a wrong interval end": INTERVALS.replace("[1441, 3141]", "[1200, 3141]"),
         "a column summary does not print": INTERVALS.replace("IQM [95% CI]", "median [95% CI]"),
+        "a wrong end-of-run mean": EVALJSON.replace("7517 [4447, 9270] | 7517", "7527 [4447, 9270] | 7517"),
+        "a wrong end-of-run interval": EVALJSON.replace("7406 [4763, 9003] |", "7406 [4000, 9003] |", 1),
+        "a wrong success rate": EVALJSON.replace("100% | 100%", "80% | 100%"),
+        "a wrong count of eval.json runs": EVALJSON.replace("| 5 |", "| 4 |"),
+        "an eval.json table of a group without them": EVALJSON.replace("rows=python-idp", "rows=five-seeds-view/hopper/LOGO"),
+        "another column's intervals": METRIC_INTERVALS.replace("@train_sparse_return", ""),
         "a wrong probability of improvement": COMPARE.replace("0.80 [", "0.76 ["),
         "a wrong IQM difference's interval": COMPARE.replace("[896, 2207]", "[500, 2207]"),
         "the groups compared the other way": COMPARE.replace(

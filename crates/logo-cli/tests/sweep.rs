@@ -190,6 +190,51 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
     assert!(apart.status.success(), "{text}");
     assert_eq!(labels, ["LOGO seed 0", "LOGO seed 1"], "{text}");
     assert!(first_table().all(|l| l.contains(" | 1 | ")), "{text}");
+    // --metric: the tables read another metrics.csv column (each seed's last
+    // train_dense_return here), named above them; an unknown column is refused by name.
+    let by_metric = |column: &str| {
+        logo(&[
+            "summary",
+            b_runs.to_str().unwrap(),
+            "--each-seed",
+            "--no-intervals",
+            "--metric",
+            column,
+        ])
+    };
+    let dense = by_metric("train_dense_return");
+    let text = String::from_utf8_lossy(&dense.stdout);
+    assert!(dense.status.success(), "{text}");
+    assert!(
+        text.starts_with(
+            "Every value below but eval.json's is metrics.csv's `train_dense_return`."
+        ),
+        "{text}"
+    );
+    for seed in 0..2 {
+        let last = rows(&b_runs.join(format!("seed{seed}"))).pop().unwrap();
+        let header = std::fs::read_to_string(b_runs.join("seed0/metrics.csv")).unwrap();
+        let column = header
+            .lines()
+            .next()
+            .unwrap()
+            .split(',')
+            .position(|c| c == "train_dense_return")
+            .unwrap();
+        let value: f64 = last[column].parse().unwrap();
+        let row = text
+            .lines()
+            .find(|l| l.starts_with(&format!("| b seed {seed} |")))
+            .unwrap();
+        let cells: Vec<&str> = row.split(" | ").collect();
+        assert_eq!(cells[3], format!("{value:.0} ± 0"), "{text}");
+    }
+    let unknown = by_metric("no_such_column");
+    let text = String::from_utf8_lossy(&unknown.stderr);
+    assert!(
+        !unknown.status.success() && text.contains("no_such_column"),
+        "{text}"
+    );
     // --compare is repeatable: one table per pair, in the order given.
     let pairs = logo(&[
         "summary",

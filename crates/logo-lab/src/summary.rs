@@ -14,7 +14,7 @@ use clap::Args;
 use logo_stats::{Aggregate, Bootstrap, Estimate, mean_std, median};
 
 use crate::runs::{
-    ExternalSpec, Metric, Run, discover, each_seed_apart, external_runs, interpolate,
+    EVAL_RETURN, ExternalSpec, Metric, Run, discover, each_seed_apart, external_runs, interpolate,
     parse_external, parse_label, parse_max_samples, relabel, up_to,
 };
 
@@ -55,6 +55,11 @@ pub struct SummaryArgs {
     /// Leave out the second table (mean and IQM over seeds with bootstrap intervals).
     #[arg(long)]
     no_intervals: bool,
+    /// The metrics.csv column every per-iteration table reads (e.g. train_sparse_return:
+    /// the sampled episodes' return on the trained task), instead of the dense
+    /// evaluation's return. Named above the tables when it is not the default.
+    #[arg(long, default_value = EVAL_RETURN)]
+    metric: String,
     /// Resamples of the stratified bootstrap behind every interval.
     #[arg(long, default_value_t = 50_000)]
     reps: usize,
@@ -238,7 +243,11 @@ pub fn table(runs: &[Run], at: &[f64], rule: AtRule, threshold: Option<f64>) -> 
 }
 
 pub fn run(args: &SummaryArgs) -> Result<()> {
-    let mut runs = discover(&args.runs, &Metric::eval_return())?;
+    let metric = Metric {
+        column: args.metric.clone(),
+        log10: false,
+    };
+    let mut runs = discover(&args.runs, &metric)?;
     relabel(&mut runs, &args.labels)?;
     if args.each_seed {
         each_seed_apart(&mut runs);
@@ -258,6 +267,12 @@ pub fn run(args: &SummaryArgs) -> Result<()> {
         up_to(&mut runs, max_samples)?;
     }
     let rule = args.window.map_or(AtRule::Interpolate, AtRule::Window);
+    if args.metric != EVAL_RETURN {
+        println!(
+            "Every value below but eval.json's is metrics.csv's `{}`.\n",
+            args.metric
+        );
+    }
     print!("{}", table(&runs, &args.at, rule, args.threshold)?);
     ensure!(args.reps >= 1, "--reps must be at least 1");
     let bootstrap = Bootstrap::with_reps(args.reps);
