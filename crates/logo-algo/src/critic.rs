@@ -77,6 +77,19 @@ pub struct LbfgsFit {
     /// "backtracking" (the default) or "strong-wolfe" (the reference's SciPy L-BFGS-B).
     #[serde(default)]
     pub line_search: LineSearch,
+    /// The fraction of the batch's rows each fit sees, drawn afresh every iteration
+    /// without replacement (1, the default: the whole batch, as the reference). A cost
+    /// lever: the fit's arithmetic scales with it.
+    #[serde(default = "whole_batch", skip_serializing_if = "is_whole_batch")]
+    pub subsample: f64,
+}
+
+fn whole_batch() -> f64 {
+    1.0
+}
+// serde's skip_serializing_if passes a reference.
+fn is_whole_batch(fraction: &f64) -> bool {
+    *fraction == 1.0
 }
 
 fn default_lbfgs_iterations() -> usize {
@@ -92,6 +105,7 @@ impl Default for LbfgsFit {
             iterations: default_lbfgs_iterations(),
             l2: default_l2(),
             line_search: LineSearch::Backtracking,
+            subsample: whole_batch(),
         }
     }
 }
@@ -128,6 +142,12 @@ impl CriticConfig {
         match &self.fit {
             CriticFit::Lbfgs(fit) => {
                 check_count(&format!("{table}.fit.iterations"), fit.iterations, 100_000)?;
+                if !(fit.subsample > 0.0 && fit.subsample <= 1.0) {
+                    return Err(format!(
+                        "{table}.fit.subsample = {}: expected a fraction of the batch in (0, 1]",
+                        fit.subsample
+                    ));
+                }
                 check_positive(&format!("{table}.fit.l2"), fit.l2, true)
             }
             CriticFit::Adam(fit) => {
@@ -218,13 +238,31 @@ impl<E: Engine> CriticSet<E> {
     /// Fits every net to `returns` (`[rows]`); the mean of their final losses.
     pub fn fit(&mut self, engine: &E, obs: &E::Rows, returns: &[f64], rng: &mut ChaCha8Rng) -> f64 {
         let targets = engine.upload(returns, [returns.len(), 1]);
+        // One subset for every net of the set (`[critic.fit] subsample`).
+        let subset = match &self.config.fit {
+            CriticFit::Lbfgs(fit) if fit.subsample < 1.0 => {
+                let rows = returns.len();
+                let keep = ((fit.subsample * rows as f64).round() as usize).clamp(1, rows);
+                let mut indices = rand::seq::index::sample(rng, rows, keep).into_vec();
+                indices.sort_unstable(); // memory order, for the products' caches
+                Some((
+                    engine.select(obs, &indices),
+                    logo_nn::engine::select_rows(&targets, &indices),
+                ))
+            }
+            _ => None,
+        };
         let mut total = 0.0;
         for (net, adam) in self.nets.iter_mut().zip(&mut self.adam) {
             let theta0 = engine.params(net);
             let (theta, loss) = match &self.config.fit {
                 CriticFit::Lbfgs(fit) => {
+                    let (obs, targets) = match &subset {
+                        Some((rows, targets)) => (rows, targets),
+                        None => (obs, &targets),
+                    };
                     let mut objective =
-                        ValueObjective::new(engine, &self.dims, obs, &targets, fit.l2);
+                        ValueObjective::new(engine, &self.dims, obs, targets, fit.l2);
                     let result =
                         lbfgs::minimize(&mut objective, theta0, fit.iterations, fit.line_search);
                     (result.x, result.loss)

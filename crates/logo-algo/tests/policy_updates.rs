@@ -299,3 +299,48 @@ learning_rate = 3e-3"#,
         assert!(loss.is_finite() && loss > 0.0);
     }
 }
+
+/// `[critic.fit] subsample`: the fit sees a random part of the batch, drawn from the fit's
+/// stream (another stream, another part); the whole batch (the default) draws nothing.
+#[test]
+fn a_subsampled_critic_fit_sees_part_of_the_batch() {
+    let engine = Kernels;
+    let device = Default::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let n = 400;
+    let obs: Vec<f64> = (0..n * 3).map(|_| rng.random_range(-1.0..1.0)).collect();
+    let returns: Vec<f64> = obs.chunks(3).map(|o| 3.0 * o[0] - o[1] * o[2]).collect();
+    let rows = engine.rows(&obs, 3);
+    let net = ValueNetConfig::new(3).init::<Cpu>(&device);
+    let fitted = |subsample: &str, stream: u64| {
+        let config: CriticConfig =
+            toml::from_str(&format!("[fit]\nmethod = \"lbfgs\"\n{subsample}")).unwrap();
+        config.validate("critic").unwrap();
+        let mut critic = CriticSet::new(&engine, &config, std::slice::from_ref(&net));
+        let mut rng = ChaCha8Rng::seed_from_u64(stream);
+        critic.fit(&engine, &rows, &returns, &mut rng);
+        (critic.values(&engine, &rows), rng.random::<u64>())
+    };
+    let (whole, after_whole) = fitted("", 0);
+    assert_eq!(fitted("subsample = 1.0", 0), (whole.clone(), after_whole));
+    assert_eq!(
+        after_whole,
+        ChaCha8Rng::seed_from_u64(0).random::<u64>(),
+        "no draw"
+    );
+    let (half, _) = fitted("subsample = 0.5", 0);
+    let (other_half, _) = fitted("subsample = 0.5", 1);
+    assert_ne!(half, whole);
+    assert_ne!(half, other_half);
+    assert_eq!(
+        fitted("subsample = 0.5", 0).0,
+        half,
+        "the same stream, the same part"
+    );
+    for bad in ["subsample = 0.0", "subsample = 1.5", "subsample = nan"] {
+        let config: CriticConfig =
+            toml::from_str(&format!("[fit]\nmethod = \"lbfgs\"\n{bad}")).unwrap();
+        let err = config.validate("critic").unwrap_err();
+        assert!(err.contains("critic.fit.subsample"), "{bad}: {err}");
+    }
+}
