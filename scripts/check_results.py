@@ -71,7 +71,8 @@ holds seed*/ runs, and a .csv path is one run):
   evals    runs=PATH;PATH;...     one row per run: its eval-20.txt (`logo eval` output),
                                   columns by header: "dense return", "x moved" (mean ±
                                   std), "action RMS", "length"; [file=NAME: another
-                                  `logo eval` output in each run folder]
+                                  `logo eval` output in each run folder]; "sparse
+                                  return" is the first field (the env's own return)
 
 Exit status 1 on any mismatch, listing table, row, column, document and data.
 Usage: scripts/check_results.py [docs/results.md]
@@ -486,10 +487,14 @@ def check_table(kind, opts, header, body):
             text = (ROOT / "docs/results" / path / opts.get("file", "eval-20.txt")).read_text()
             line = next(l for l in text.splitlines() if "dense return" in l)
             fields = {}
-            for part in line.split("|"):
+            parts = line.split("|")
+            for part in parts:
                 for name in ("dense return", "x moved", "action RMS", "length"):
                     if name in part:
                         fields[name] = part.split(name, 1)[1].strip()
+            # The first part is "<env> return R ± S": the trained task's (sparse) return.
+            if " return " in parts[0]:
+                fields["sparse return"] = parts[0].split(" return ", 1)[1].strip()
             for c in range(1, len(header)):
                 if c + 1 in quoted:
                     continue

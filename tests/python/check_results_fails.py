@@ -27,6 +27,13 @@ EVALS = """<!-- check evals runs=paper-scale/hopper/hopper/seed1 -->
 | seed 1 | 3118 ± 24 | 1000 | 1.37 |
 """
 
+# The env's own return, the first field of a `logo eval` line (sparse on a sparse env).
+EVALS_OWN = """<!-- check evals runs=paper-scale/hopper/hopper/seed1 -->
+| run | sparse return (20 episodes) | x moved |
+| --- | --- | --- |
+| seed 1 | 3118 ± 24 | 16.99 ± 0.19 |
+"""
+
 # Another `logo eval` output kept beside eval-20.txt (here with --clip-actions).
 CLIPPED = """<!-- check evals runs=paper-scale/halfcheetah/logo-halfcheetah/seed0 file=eval-20-clipped.txt -->
 | run | dense return (20 episodes) | x moved | action RMS |
@@ -100,7 +107,7 @@ def check(text):
 def main():
     failures = []
     goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS,
-             EVALJSON, METRIC_INTERVALS)
+             EVALJSON, METRIC_INTERVALS, EVALS_OWN)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -119,6 +126,7 @@ def main():
         "a wrong interval mean": INTERVALS.replace("2554 [", "2560 ["),
         "a wrong interval end": INTERVALS.replace("[1441, 3141]", "[1200, 3141]"),
         "a column summary does not print": INTERVALS.replace("IQM [95% CI]", "median [95% CI]"),
+        "a wrong own return": EVALS_OWN.replace("3118 ± 24", "3118 ± 25"),
         "a wrong end-of-run mean": EVALJSON.replace("7517 [4447, 9270] | 7517", "7527 [4447, 9270] | 7517"),
         "a wrong end-of-run interval": EVALJSON.replace("7406 [4763, 9003] |", "7406 [4000, 9003] |", 1),
         "a wrong success rate": EVALJSON.replace("100% | 100%", "80% | 100%"),
