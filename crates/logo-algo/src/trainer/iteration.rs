@@ -24,7 +24,7 @@ use logo_nn::{Engine, Policy};
 
 use super::Trainer;
 use super::learner::{Advantages, CriticFits, advantages};
-use super::record::Stopwatch;
+use super::recorder::Stopwatch;
 use super::resources::{Collected, Resources};
 use crate::config::TrainConfig;
 use crate::episode::Evaluation;

@@ -2,8 +2,6 @@
 //! checkpoints the recorder says are due. Recording only: nothing here changes the
 //! learner.
 
-use std::time::Instant;
-
 use logo_nn::Engine;
 
 use super::Trainer;
@@ -109,21 +107,4 @@ fn check_critic_fits(fits: &CriticFits, guidance: bool) -> Result<(), TrainError
         )?;
     }
     Ok(())
-}
-
-/// Seconds between laps, for the per-phase times.
-pub(super) struct Stopwatch(Instant);
-
-impl Stopwatch {
-    pub(super) fn start() -> Self {
-        Self(Instant::now())
-    }
-
-    /// Seconds since the start or the previous lap.
-    pub(super) fn lap(&mut self) -> f64 {
-        let now = Instant::now();
-        let seconds = (now - self.0).as_secs_f64();
-        self.0 = now;
-        seconds
-    }
 }

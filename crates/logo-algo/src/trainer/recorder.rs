@@ -157,3 +157,20 @@ impl Recorder {
         format!("{e}; the run stopped ({kept} in {})", self.path().display()).into()
     }
 }
+
+/// Seconds between laps, for the per-phase times.
+pub(super) struct Stopwatch(Instant);
+
+impl Stopwatch {
+    pub(super) fn start() -> Self {
+        Self(Instant::now())
+    }
+
+    /// Seconds since the start or the previous lap.
+    pub(super) fn lap(&mut self) -> f64 {
+        let now = Instant::now();
+        let seconds = (now - self.0).as_secs_f64();
+        self.0 = now;
+        seconds
+    }
+}
