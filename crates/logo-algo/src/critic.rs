@@ -13,7 +13,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::adam::{Adam, AdamEpochs};
 use crate::lbfgs::{self, LineSearch};
-use crate::validate::{MAX_SAMPLES_PER_ITER, check_count, check_positive, check_widths};
+use crate::validate::{
+    MAX_SAMPLES_PER_ITER, check_count, check_fraction, check_positive, check_widths,
+};
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -142,12 +144,7 @@ impl CriticConfig {
         match &self.fit {
             CriticFit::Lbfgs(fit) => {
                 check_count(&format!("{table}.fit.iterations"), fit.iterations, 100_000)?;
-                if !(fit.subsample > 0.0 && fit.subsample <= 1.0) {
-                    return Err(format!(
-                        "{table}.fit.subsample = {}: expected a fraction of the batch in (0, 1]",
-                        fit.subsample
-                    ));
-                }
+                check_fraction(&format!("{table}.fit.subsample"), fit.subsample)?;
                 check_positive(&format!("{table}.fit.l2"), fit.l2, true)
             }
             CriticFit::Adam(fit) => {

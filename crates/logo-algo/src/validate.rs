@@ -41,6 +41,14 @@ pub fn check_count(key: &str, value: usize, max: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// A fraction of a batch: in (0, 1] (1: the whole batch).
+pub fn check_fraction(key: &str, value: f64) -> Result<(), String> {
+    if !(value > 0.0 && value <= 1.0) {
+        return Err(format!("{key} must be in (0, 1], got {value}"));
+    }
+    Ok(())
+}
+
 /// A clip range ε: in (0, 1), so that 1 − ε stays a positive ratio.
 pub fn check_clip(key: &str, value: f64) -> Result<(), String> {
     if !(value > 0.0 && value < 1.0) {

@@ -262,15 +262,21 @@ fn the_twin_min_baseline_is_the_elementwise_minimum() {
     assert!(values.iter().zip(&v1).all(|(a, b)| (a - b).abs() < 1e-15));
 }
 
+/// 400 three-dimensional states and a smooth nonlinear return of each: a critic's batch.
+fn regression_batch() -> (Vec<f64>, Vec<f64>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let obs: Vec<f64> = (0..400 * 3).map(|_| rng.random_range(-1.0..1.0)).collect();
+    let returns = obs.chunks(3).map(|o| 3.0 * o[0] - o[1] * o[2]).collect();
+    (obs, returns)
+}
+
 /// Both fits lower the loss; twin nets are fitted each to the same returns.
 #[test]
 fn both_critic_fits_reduce_the_loss() {
     let engine = Kernels;
     let device = Default::default();
-    let mut rng = ChaCha8Rng::seed_from_u64(9);
-    let n = 400;
-    let obs: Vec<f64> = (0..n * 3).map(|_| rng.random_range(-1.0..1.0)).collect();
-    let returns: Vec<f64> = obs.chunks(3).map(|o| 3.0 * o[0] - o[1] * o[2]).collect();
+    let (obs, returns) = regression_batch();
+    let n = returns.len();
     let rows = engine.rows(&obs, 3);
     for fit in [
         r#"method = "lbfgs""#,
@@ -306,10 +312,7 @@ learning_rate = 3e-3"#,
 fn a_subsampled_critic_fit_sees_part_of_the_batch() {
     let engine = Kernels;
     let device = Default::default();
-    let mut rng = ChaCha8Rng::seed_from_u64(9);
-    let n = 400;
-    let obs: Vec<f64> = (0..n * 3).map(|_| rng.random_range(-1.0..1.0)).collect();
-    let returns: Vec<f64> = obs.chunks(3).map(|o| 3.0 * o[0] - o[1] * o[2]).collect();
+    let (obs, returns) = regression_batch();
     let rows = engine.rows(&obs, 3);
     let net = ValueNetConfig::new(3).init::<Cpu>(&device);
     let fitted = |subsample: &str, stream: u64| {

@@ -211,16 +211,16 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
         ),
         "{text}"
     );
+    let header = std::fs::read_to_string(b_runs.join("seed0/metrics.csv")).unwrap();
+    let column = header
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|c| c == "train_dense_return")
+        .unwrap();
     for seed in 0..2 {
         let last = rows(&b_runs.join(format!("seed{seed}"))).pop().unwrap();
-        let header = std::fs::read_to_string(b_runs.join("seed0/metrics.csv")).unwrap();
-        let column = header
-            .lines()
-            .next()
-            .unwrap()
-            .split(',')
-            .position(|c| c == "train_dense_return")
-            .unwrap();
         let value: f64 = last[column].parse().unwrap();
         let row = text
             .lines()

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::objective::{StepBatch, Surrogate, anchor, evaluate, gradient};
 use super::stats::{StopReason, UpdateStats};
-use crate::validate::{check_clip, check_count, check_positive};
+use crate::validate::{check_clip, check_count, check_fraction, check_positive};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -74,12 +74,7 @@ impl Default for TrpoConfig {
 
 impl TrpoConfig {
     pub fn validate(&self, table: &str) -> Result<(), String> {
-        let fraction = self.fisher_fraction;
-        if !(fraction > 0.0 && fraction <= 1.0) {
-            return Err(format!(
-                "{table}.fisher_fraction must be in (0, 1], got {fraction}"
-            ));
-        }
+        check_fraction(&format!("{table}.fisher_fraction"), self.fisher_fraction)?;
         check_positive(&format!("{table}.damping"), self.damping, true)?;
         check_positive(&format!("{table}.accept_ratio"), self.accept_ratio, true)?;
         if let Some(limit) = self.kl_limit {
