@@ -83,11 +83,24 @@ pub struct TrainConfig {
     pub checkpoint_every: usize,
     /// Start from this policy: a LOGO reference `.pt` (the reference's `--init-BC`).
     pub init_policy: Option<PathBuf>,
+    /// The networks' float type where no `--dtype` flag chooses one: `"f64"` (the
+    /// default on the CPU: the reference's precision) or `"f32"` (the fast preset's,
+    /// configs/logo-fast/). A resumed run keeps the type it last trained in.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dtype: Option<FloatType>,
     /// The improvement step's kind and fields (`[improvement]`, default `kind = "trpo"`).
     #[serde(default)]
     pub improvement: PolicyUpdateConfig,
     /// LOGO's guidance; absent: the improvement step alone (TRPO, PPO, ...).
     pub guidance: Option<GuidanceConfig>,
+}
+
+/// A config's `dtype`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FloatType {
+    F64,
+    F32,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -35,6 +35,6 @@ pub mod tensorboard;
 pub mod trainer;
 pub mod validate;
 
-pub use config::{ConfigError, EvalInitialStates, TrainConfig};
+pub use config::{ConfigError, EvalInitialStates, FloatType, TrainConfig};
 pub use metrics::IterationMetrics;
 pub use trainer::{EngineSpan, LearnerState, Schedule, Trainer, engine_history};

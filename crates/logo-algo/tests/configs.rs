@@ -3,7 +3,8 @@
 
 use std::path::Path;
 
-use logo_algo::TrainConfig;
+use logo_algo::critic::CriticFit;
+use logo_algo::{FloatType, TrainConfig};
 use logo_data::Demonstrations;
 use logo_envs::{EnvFactory, EnvOptions};
 
@@ -77,6 +78,26 @@ fn variants_are_configurations_of_the_same_run() {
             }
             assert_eq!(config, logo, "{} differs beyond its kinds", path.display());
         }
+    }
+}
+
+/// The fast preset is `configs/logo/<env>.toml` with its two cost levers and nothing
+/// else: float32, and the L-BFGS critic fits on a quarter of the batch.
+#[test]
+fn the_fast_preset_is_the_default_with_its_levers() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+    for env in ENVS {
+        let logo = TrainConfig::load(&root.join("logo").join(format!("{env}.toml"))).unwrap();
+        let path = root.join("logo-fast").join(format!("{env}.toml"));
+        let mut fast = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(fast.dtype, Some(FloatType::F32), "{}", path.display());
+        let CriticFit::Lbfgs(fit) = &mut fast.critic.fit else {
+            panic!("{}: the preset's critic fit is not L-BFGS", path.display());
+        };
+        assert_eq!(fit.subsample, 0.25, "{}", path.display());
+        fit.subsample = 1.0;
+        fast.dtype = None;
+        assert_eq!(fast, logo, "{} differs beyond its levers", path.display());
     }
 }
 

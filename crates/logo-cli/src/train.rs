@@ -201,7 +201,7 @@ pub fn run_job(job: Job, engine: &EngineArgs, console: &mut dyn Console) -> Resu
             }
             engine
         }
-        Start::New(..) => engine.clone(),
+        Start::New(config, _) => engine.for_config(config),
     };
     engine.with(Train { job, console })
 }

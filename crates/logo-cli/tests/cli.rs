@@ -74,6 +74,10 @@ fn config_errors_name_the_file_and_the_key() {
         (TINY.replace("demos.npy", "missing.npy"), "guidance.demos"),
         (TINY.replace("num_envs = 4", "num_envs = 0"), "num_envs"),
         (
+            TINY.replace("num_envs = 4", "num_envs = 4\ndtype = \"f16\""),
+            "dtype",
+        ),
+        (
             TINY.replace(
                 "[guidance]",
                 "[improvement]\nfisher_fraction = 1.5\n[guidance]",

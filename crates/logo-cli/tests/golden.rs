@@ -66,13 +66,20 @@ fn tensors(dir: &Path) -> String {
 }
 
 /// Trains `config` into a scratch folder; its metrics (timings removed) and tensors.
+/// An empty `dtype` gives no `--dtype` flag.
 fn train(name: &str, config: &str, iterations: &str, dtype: &str) -> (String, String) {
     let out = std::env::temp_dir().join(format!("logo-golden-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
+    let dtype_flag: &[&str] = if dtype.is_empty() {
+        &[]
+    } else {
+        &["--dtype", dtype]
+    };
     let status = Command::new(env!("CARGO_BIN_EXE_logo"))
         .current_dir(root())
         .args(["train", "--config", config, "--iterations", iterations])
-        .args(["--dtype", dtype, "--no-tensorboard", "--out"])
+        .args(dtype_flag)
+        .args(["--no-tensorboard", "--out"])
         .arg(&out)
         .stdout(Stdio::null())
         .status()
@@ -155,6 +162,19 @@ fn sparse_hopper_three_iterations_float32() {
 #[test]
 fn first_order_kinds_five_iterations_float64() {
     check("idp-ppo-f64", "tests/golden/idp-ppo.toml", "5", "f64");
+}
+
+/// A config's `dtype` chooses the float type where no `--dtype` flag does, and the flag
+/// wins over it: each trains exactly as the golden run of its type.
+#[test]
+fn a_configs_dtype_trains_as_the_flag() {
+    let (dir, text) = shipped_config("dtype", "configs/logo/inverted_double_pendulum.toml");
+    let config = dir.join("f32.toml");
+    std::fs::write(&config, format!("dtype = \"f32\"\n{text}")).unwrap();
+    let config = config.to_str().unwrap();
+    check_against("idp-f32", "dtype-f32", config, "6", "");
+    check_against("idp-f64", "dtype-f32-flag-f64", config, "6", "f64");
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A scratch folder for variants of a shipped config, and that config's text with its

@@ -1,8 +1,10 @@
-//! The one place the engine is chosen: `--engine`, `--backend`, `--dtype` → a value of a
-//! type implementing `logo_nn::Engine`, handed to a generic command ([`WithEngine`]).
+//! The one place the engine is chosen: `--engine`, `--backend`, `--dtype` (or a config's
+//! `dtype`) → a value of a type implementing `logo_nn::Engine`, handed to a generic
+//! command ([`WithEngine`]).
 
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
+use logo_algo::{FloatType, TrainConfig};
 use logo_nn::{BurnEngine, Engine, Kernels};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -61,11 +63,23 @@ impl EngineArgs {
                 name(&|| backend.to_possible_value()),
             ]);
         }
-        args.extend([
-            "--dtype".to_string(),
-            name(&|| self.dtype().to_possible_value()),
-        ]);
+        // Left out when not given: a child's config may name its own `dtype`.
+        if let Some(dtype) = self.dtype {
+            args.extend(["--dtype".to_string(), name(&|| dtype.to_possible_value())]);
+        }
         args
+    }
+
+    /// These flags for a new run of `config`: its `dtype` where no `--dtype` was given.
+    pub fn for_config(&self, config: &TrainConfig) -> Self {
+        let from_config = config.dtype.map(|dtype| match dtype {
+            FloatType::F64 => Dtype::F64,
+            FloatType::F32 => Dtype::F32,
+        });
+        Self {
+            dtype: self.dtype.or(from_config),
+            ..self.clone()
+        }
     }
 
     /// No engine flag given at all.
@@ -75,8 +89,13 @@ impl EngineArgs {
 
     /// The flags that select the engine an `Engine::describe` names ("kernels f32",
     /// "burn ndarray f64", "burn wgpu f32"), or None for a name this build does not know.
+    /// A build tag ("kernels f64 +avx512") is no flag: this build's kernels are taken, and
+    /// the run's history records them from where it resumes.
     pub fn from_description(text: &str) -> Option<Self> {
-        let words: Vec<&str> = text.split_whitespace().collect();
+        let words: Vec<&str> = text
+            .split_whitespace()
+            .filter(|word| !word.starts_with('+'))
+            .collect();
         let (last, rest) = words.split_last()?;
         let dtype = match *last {
             "f64" => Dtype::F64,
@@ -171,7 +190,7 @@ impl EngineArgs {
             }
             (EngineKind::Burn, BackendKind::Wgpu | BackendKind::Cuda, Dtype::F64) => {
                 bail!(
-                    "--dtype f64: the GPU backends compute in float32 only (WGSL has no float64); leave --dtype out or give f32"
+                    "--dtype f64: the GPU backends compute in float32 only (WGSL has no float64); leave --dtype out or give f32 (a config's `dtype = \"f64\"` counts as --dtype f64)"
                 )
             }
             #[cfg(feature = "wgpu")]
@@ -249,6 +268,14 @@ mod tests {
                 Some(args.iter().map(|s| s.to_string()).collect())
             );
         }
+        assert_eq!(
+            flags("kernels f64 +avx512"),
+            Some(
+                ["--engine", "kernels", "--dtype", "f64"]
+                    .map(String::from)
+                    .to_vec()
+            )
+        );
         for unknown in ["", "kernels", "kernels f16", "burn f64", "tch cpu f64"] {
             assert_eq!(flags(unknown), None, "{unknown:?}");
         }
@@ -257,5 +284,22 @@ mod tests {
         // The names the engines give themselves.
         assert!(EngineArgs::from_description(&Kernels::<f32>::default().describe()).is_some());
         assert!(EngineArgs::from_description(&Kernels::<f64>::default().describe()).is_some());
+    }
+
+    /// A sweep with no engine flag passes none on, so that each run's config may name
+    /// its own `dtype` (and a resumed run keeps the engine it trained on).
+    #[test]
+    fn flags_not_given_are_not_passed_on() {
+        let unset = EngineArgs {
+            engine: None,
+            backend: None,
+            dtype: None,
+        };
+        assert!(unset.to_args().is_empty());
+        let f32_only = EngineArgs {
+            dtype: Some(Dtype::F32),
+            ..unset
+        };
+        assert_eq!(f32_only.to_args(), ["--dtype", "f32"]);
     }
 }

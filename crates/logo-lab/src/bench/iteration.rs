@@ -141,8 +141,9 @@ pub fn run(args: &IterationBenchArgs) -> Result<()> {
         anyhow::ensure!(threads > 0, "--threads must be at least 1");
         config.threads = threads;
     }
+    let engine = args.engine.for_config(&config);
     let run = |schedule| {
-        args.engine.with(Run {
+        engine.with(Run {
             config: config.clone(),
             schedule,
         })
@@ -155,7 +156,7 @@ pub fn run(args: &IterationBenchArgs) -> Result<()> {
         .factory()
         .with_context(|| format!("{}: env", args.config.display()))?;
     let raw = single_thread_rates(&factory, 5_000, 5)?.raw_env_steps_per_s;
-    let gemm = match args.engine.dtype() {
+    let gemm = match engine.dtype() {
         Dtype::F64 => block_products::<f64>(7),
         Dtype::F32 => block_products::<f32>(7),
     };

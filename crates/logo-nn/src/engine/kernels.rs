@@ -41,6 +41,17 @@ pub struct HostRows<F> {
     width: usize,
 }
 
+/// " +avx512" where the `avx512` build's GEMM kernels run (built with the feature, on a
+/// CPU that has AVX-512F): they sum in another order than the default build's, so a
+/// run's engine history says which it trained on. Empty otherwise.
+fn gemm_build() -> &'static str {
+    #[cfg(all(feature = "avx512", target_arch = "x86_64"))]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        return " +avx512";
+    }
+    ""
+}
+
 fn to_host<F: KernelFloat>(values: &[f64]) -> Vec<F> {
     values.iter().map(|&v| F::from_f64(v)).collect()
 }
@@ -60,7 +71,7 @@ where
     type Curvature = OutputSensitivities<F>;
 
     fn describe(&self) -> String {
-        format!("kernels {}", F::NAME)
+        format!("kernels {}{}", F::NAME, gemm_build())
     }
 
     fn device(&self) -> super::Device<Self> {
@@ -147,5 +158,27 @@ where
             &to_host(tangent),
             &to_host(output_weights),
         ))
+    }
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+
+    /// The engine's name carries the GEMM build where it is the `avx512` one, so that a
+    /// checkpoint's history tells the two builds' runs apart.
+    #[test]
+    fn the_name_says_which_gemm_kernels_ran() {
+        let avx512 = cfg!(all(feature = "avx512", target_arch = "x86_64"))
+            && std::arch::is_x86_feature_detected!("avx512f");
+        let tag = if avx512 { " +avx512" } else { "" };
+        assert_eq!(
+            Kernels::<f64>::default().describe(),
+            format!("kernels f64{tag}")
+        );
+        assert_eq!(
+            Kernels::<f32>::default().describe(),
+            format!("kernels f32{tag}")
+        );
     }
 }
