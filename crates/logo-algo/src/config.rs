@@ -83,9 +83,11 @@ pub struct TrainConfig {
     pub checkpoint_every: usize,
     /// Start from this policy: a LOGO reference `.pt` (the reference's `--init-BC`).
     pub init_policy: Option<PathBuf>,
-    /// The networks' float type where no `--dtype` flag chooses one: `"f64"` (the
-    /// default on the CPU: the reference's precision) or `"f32"` (the fast preset's,
-    /// configs/logo-fast/). A resumed run keeps the type it last trained in.
+    /// The networks' float type of a new run where no `--dtype` flag chooses one:
+    /// `"f64"` (the default on the CPU: the reference's precision) or `"f32"` (the fast
+    /// preset's, configs/logo-fast/); a flag given over it is written here in the run's
+    /// stored config. A resume goes by the checkpoint's engine history instead
+    /// (`logo train --resume`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dtype: Option<FloatType>,
     /// The improvement step's kind and fields (`[improvement]`, default `kind = "trpo"`).

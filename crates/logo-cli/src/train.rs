@@ -187,8 +187,8 @@ pub fn run(args: &TrainArgs) -> Result<()> {
 
 /// Runs `job` on `engine` (a resumed run without engine flags continues on the engine it
 /// last trained on) and returns the run's folder.
-pub fn run_job(job: Job, engine: &EngineArgs, console: &mut dyn Console) -> Result<PathBuf> {
-    let engine = match &job.start {
+pub fn run_job(mut job: Job, engine: &EngineArgs, console: &mut dyn Console) -> Result<PathBuf> {
+    let engine = match &mut job.start {
         Start::Resume(dir, _) => {
             let last = last_engine(dir);
             let (engine, taken) = engine.or_trained_on(last.as_deref(), |_| true);
@@ -201,7 +201,15 @@ pub fn run_job(job: Job, engine: &EngineArgs, console: &mut dyn Console) -> Resu
             }
             engine
         }
-        Start::New(config, _) => engine.for_config(config),
+        Start::New(config, _) => {
+            let engine = engine.for_config(config);
+            // The run's stored config names the type it trains in where it names one, so
+            // a run made from it again trains the same way.
+            if let (Some(_), Some(dtype)) = (config.dtype, engine.dtype) {
+                config.dtype = Some(dtype.into());
+            }
+            engine
+        }
     };
     engine.with(Train { job, console })
 }

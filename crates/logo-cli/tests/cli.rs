@@ -75,7 +75,7 @@ fn config_errors_name_the_file_and_the_key() {
         (TINY.replace("num_envs = 4", "num_envs = 0"), "num_envs"),
         (
             TINY.replace("num_envs = 4", "num_envs = 4\ndtype = \"f16\""),
-            "dtype",
+            "unknown variant `f16`, expected `f64` or `f32`",
         ),
         (
             TINY.replace(
@@ -589,6 +589,25 @@ fn inspect_works_on_every_shipped_dataset() {
         }
     }
     assert_eq!(inspected, 5, "four LOGO sets and the Hopper behaviour set");
+}
+
+/// A `--dtype` given over a config's `dtype` is what the run trains in, and what its
+/// stored config says.
+#[test]
+fn a_dtype_flag_over_the_configs_is_written_into_the_run() {
+    let (dir, _) = tiny_run("dtype-over-config");
+    let config = dir.join("f32.toml");
+    std::fs::write(
+        &config,
+        TINY.replace("num_envs = 4", "num_envs = 4\ndtype = \"f32\""),
+    )
+    .unwrap();
+    let run = dir.join("run");
+    let (config, out) = (config.to_str().unwrap(), run.to_str().unwrap());
+    let stdout = cli().succeed(&["train", "--config", config, "--dtype", "f64", "--out", out]);
+    assert!(stdout.contains("kernels f64"), "{stdout}");
+    let stored = std::fs::read_to_string(run.join("config.toml")).unwrap();
+    assert!(stored.contains("dtype = \"f64\""), "{stored}");
 }
 
 #[test]

@@ -22,6 +22,24 @@ pub enum Dtype {
     F32,
 }
 
+impl From<FloatType> for Dtype {
+    fn from(dtype: FloatType) -> Self {
+        match dtype {
+            FloatType::F64 => Dtype::F64,
+            FloatType::F32 => Dtype::F32,
+        }
+    }
+}
+
+impl From<Dtype> for FloatType {
+    fn from(dtype: Dtype) -> Self {
+        match dtype {
+            Dtype::F64 => FloatType::F64,
+            Dtype::F32 => FloatType::F32,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum BackendKind {
     /// burn's ndarray backend, on the CPU.
@@ -41,8 +59,8 @@ pub struct EngineArgs {
     /// The burn engine's backend (implies --engine burn; default ndarray).
     #[arg(long, value_enum)]
     pub backend: Option<BackendKind>,
-    /// The float type (default: f64 on the CPU; f32 on the GPU backends, which have no
-    /// other).
+    /// The float type (default: a new run's config's `dtype`, else f64 on the CPU; f32
+    /// on the GPU backends, which have no other).
     #[arg(long, value_enum)]
     pub dtype: Option<Dtype>,
 }
@@ -72,12 +90,8 @@ impl EngineArgs {
 
     /// These flags for a new run of `config`: its `dtype` where no `--dtype` was given.
     pub fn for_config(&self, config: &TrainConfig) -> Self {
-        let from_config = config.dtype.map(|dtype| match dtype {
-            FloatType::F64 => Dtype::F64,
-            FloatType::F32 => Dtype::F32,
-        });
         Self {
-            dtype: self.dtype.or(from_config),
+            dtype: self.dtype.or(config.dtype.map(Dtype::from)),
             ..self.clone()
         }
     }
