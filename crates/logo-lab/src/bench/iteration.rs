@@ -130,17 +130,23 @@ impl WithEngine for Run {
     }
 }
 
-pub fn run(args: &IterationBenchArgs) -> Result<()> {
-    anyhow::ensure!(
-        args.iterations > args.skip,
-        "--iterations must be more than --skip"
-    );
+/// The benched config, with the bench's iterations and threads.
+fn bench_config(args: &IterationBenchArgs) -> Result<TrainConfig> {
     let mut config = TrainConfig::load(&args.config)?;
     config.iterations = args.iterations;
     if let Some(threads) = args.threads {
         anyhow::ensure!(threads > 0, "--threads must be at least 1");
         config.threads = threads;
     }
+    Ok(config)
+}
+
+pub fn run(args: &IterationBenchArgs) -> Result<()> {
+    anyhow::ensure!(
+        args.iterations > args.skip,
+        "--iterations must be more than --skip"
+    );
+    let config = bench_config(args)?;
     let engine = args.engine.for_config(&config);
     let run = |schedule| {
         engine.with(Run {
