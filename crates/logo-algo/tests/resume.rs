@@ -1,11 +1,11 @@
 //! A run killed after its last checkpoint and resumed ends exactly where an uninterrupted
 //! run of the same seed does: same final checkpoint bytes, same metrics.
 
+use logo_testkit::{Tiny, metrics_without_timings, scratch};
 use std::path::Path;
 
 use logo_algo::{TrainConfig, Trainer};
 use logo_nn::Kernels;
-use logo_testkit::{Tiny, scratch};
 
 fn config(dir: &Path, guidance: bool) -> TrainConfig {
     let tiny = match guidance {
@@ -18,22 +18,6 @@ fn config(dir: &Path, guidance: bool) -> TrainConfig {
         .with("checkpoint_every = 2\nseed = 11")
         .write(&dir.join("config.toml"));
     TrainConfig::load(&path).unwrap()
-}
-
-/// metrics.csv without the timing columns (wall_s and t_*).
-fn metrics(dir: &Path) -> Vec<String> {
-    let csv = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
-    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
-    csv.lines()
-        .map(|line| {
-            line.split(',')
-                .zip(&header)
-                .filter(|(_, h)| **h != "wall_s" && !h.starts_with("t_"))
-                .map(|(v, _)| v)
-                .collect::<Vec<_>>()
-                .join(",")
-        })
-        .collect()
 }
 
 fn check(guidance: bool) {
@@ -63,8 +47,16 @@ fn check(guidance: bool) {
         bytes(&whole) == bytes(&killed),
         "{name}: the resumed run's final checkpoint differs from the uninterrupted one"
     );
-    assert_eq!(metrics(&whole), metrics(&killed), "{name}");
-    assert_eq!(metrics(&whole).len(), 6, "a header and 5 rows");
+    assert_eq!(
+        metrics_without_timings(&whole),
+        metrics_without_timings(&killed),
+        "{name}"
+    );
+    assert_eq!(
+        metrics_without_timings(&whole).len(),
+        6,
+        "a header and 5 rows"
+    );
 }
 
 #[test]
@@ -102,7 +94,7 @@ fn a_non_finite_update_stops_the_run_and_keeps_the_last_checkpoint() {
     trainer.step().unwrap();
     trainer.step().unwrap(); // checkpoint_every = 2: written here
     let checkpoint = std::fs::read(dir.join("checkpoint.safetensors")).unwrap();
-    let rows = metrics(&dir);
+    let rows = metrics_without_timings(&dir);
     // Adam's steps are ≈ the learning rate whatever the gradient: 1e300 overflows.
     trainer.config.improvement = serde_json::from_value(serde_json::json!({
         "kind": "ppo-clip",
@@ -119,7 +111,7 @@ fn a_non_finite_update_stops_the_run_and_keeps_the_last_checkpoint() {
         std::fs::read(dir.join("checkpoint.safetensors")).unwrap(),
         checkpoint
     );
-    assert_eq!(metrics(&dir), rows);
+    assert_eq!(metrics_without_timings(&dir), rows);
 }
 
 #[test]
@@ -320,13 +312,13 @@ fn a_kept_run_resumes() {
     for file in ["checkpoint.safetensors", "metrics.csv", "config.toml"] {
         std::fs::copy(kept.join(file), dir.join(file)).unwrap();
     }
-    let done = metrics(&dir).len() - 1;
+    let done = metrics_without_timings(&dir).len() - 1;
     let mut trainer = Trainer::resume(Kernels, &dir, Some(done + 1)).unwrap();
     assert_eq!(trainer.iteration(), done);
     let row = trainer.step().unwrap();
     assert_eq!(row.iteration, done);
     assert!(trainer.done());
-    assert_eq!(metrics(&dir).len(), done + 2);
+    assert_eq!(metrics_without_timings(&dir).len(), done + 2);
 }
 
 /// A run kept inside a copy of the project resumes wherever that copy is: the files its

@@ -20,23 +20,6 @@ fn root() -> PathBuf {
     logo_testkit::workspace()
 }
 
-/// metrics.csv without its timing columns (wall_s and t_*).
-fn metrics(dir: &Path) -> String {
-    let csv = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
-    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
-    csv.lines()
-        .map(|line| {
-            let kept: Vec<&str> = line
-                .split(',')
-                .zip(&header)
-                .filter(|(_, h)| **h != "wall_s" && !h.starts_with("t_"))
-                .map(|(v, _)| v)
-                .collect();
-            kept.join(",") + "\n"
-        })
-        .collect()
-}
-
 /// A CSV's columns by name, each with its values as written.
 fn columns(csv: &str) -> Vec<(String, Vec<String>)> {
     let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
@@ -85,7 +68,11 @@ fn train(name: &str, config: &str, iterations: &str, dtype: &str) -> (String, St
         .status()
         .unwrap();
     assert!(status.success(), "{name}: logo train failed");
-    let (metrics, tensors) = (metrics(&out), tensors(&out));
+    let metrics = logo_testkit::metrics_without_timings(&out)
+        .into_iter()
+        .map(|row| row + "\n")
+        .collect();
+    let tensors = tensors(&out);
     std::fs::remove_dir_all(&out).unwrap();
     (metrics, tensors)
 }

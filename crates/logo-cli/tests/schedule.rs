@@ -2,12 +2,12 @@
 //! and at two, and a pipelined run killed (SIGKILL) at any moment resumes to the same
 //! final checkpoint and metrics as one never interrupted, on its own float type.
 
+use logo_testkit::{Tiny, metrics_without_timings, scratch};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use logo_nn::Checkpoint;
-use logo_testkit::{Tiny, scratch};
 
 fn logo() -> Command {
     Command::new(env!("CARGO_BIN_EXE_logo"))
@@ -47,22 +47,6 @@ fn train(config: &Path, out: &Path, extra: &[&str]) {
         "logo train {extra:?} into {}",
         out.display()
     );
-}
-
-/// metrics.csv without its timing columns (wall_s and t_*).
-fn metrics(dir: &Path) -> Vec<String> {
-    let csv = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
-    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
-    csv.lines()
-        .map(|line| {
-            line.split(',')
-                .zip(&header)
-                .filter(|(_, h)| **h != "wall_s" && !h.starts_with("t_"))
-                .map(|(v, _)| v)
-                .collect::<Vec<_>>()
-                .join(",")
-        })
-        .collect()
 }
 
 /// The final checkpoint: every tensor's values, and the metadata with the run's thread
@@ -112,9 +96,17 @@ fn check_schedules(name: &str, variant: &str) {
         })
         .collect();
     let (reference, reference_meta) = checkpoint(&outs[0]);
-    assert_eq!(metrics(&outs[0]).len(), 7, "a header and 6 rows");
+    assert_eq!(
+        metrics_without_timings(&outs[0]).len(),
+        7,
+        "a header and 6 rows"
+    );
     for (out, run) in outs.iter().zip(&runs).skip(1) {
-        assert_eq!(metrics(out), metrics(&outs[0]), "{name}: {run:?}");
+        assert_eq!(
+            metrics_without_timings(out),
+            metrics_without_timings(&outs[0]),
+            "{name}: {run:?}"
+        );
         let (tensors, meta) = checkpoint(out);
         assert!(same_bits(&tensors, &reference), "{name}: {run:?} tensors");
         assert_eq!(meta, reference_meta, "{name}: {run:?} metadata");
@@ -148,7 +140,7 @@ fn a_pipelined_run_killed_at_any_moment_resumes_to_the_same_end() {
     std::fs::write(&config, text).unwrap();
     let whole = dir.join("whole");
     train(&config, &whole, &[]);
-    let expected = (metrics(&whole), checkpoint(&whole));
+    let expected = (metrics_without_timings(&whole), checkpoint(&whole));
 
     // Kill once the run has written `rows` rows, `delay` later: before the first
     // checkpoint, right after one, mid-iteration while the next batch is sampled beside
@@ -186,7 +178,7 @@ fn a_pipelined_run_killed_at_any_moment_resumes_to_the_same_end() {
         } else {
             train(&config, &out, &[]);
         }
-        let (got_rows, (tensors, meta)) = (metrics(&out), checkpoint(&out));
+        let (got_rows, (tensors, meta)) = (metrics_without_timings(&out), checkpoint(&out));
         assert_eq!(got_rows, expected.0, "killed after row {rows}");
         assert!(
             same_bits(&tensors, &expected.1.0),
@@ -219,7 +211,10 @@ fn a_resume_without_engine_flags_keeps_the_runs_float_type() {
     let stdout = String::from_utf8_lossy(&resumed.stdout);
     assert!(resumed.status.success(), "{stdout}");
     assert!(stdout.contains("continuing on kernels f32"), "{stdout}");
-    assert_eq!(metrics(&parts), metrics(&whole));
+    assert_eq!(
+        metrics_without_timings(&parts),
+        metrics_without_timings(&whole)
+    );
     // A flag still chooses another engine, and then nothing is said of the old one.
     let again = logo()
         .args(["train", "--resume", parts.to_str().unwrap()])

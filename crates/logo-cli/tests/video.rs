@@ -208,27 +208,10 @@ fn video_every_leaves_the_runs_numbers_bit_identical() {
         assert!(!frames.is_empty());
     }
     assert!(!filmed.join("videos/iteration-00001.mp4").exists());
-    let rows = |dir: &Path| -> Vec<String> {
-        let csv = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
-        let header: Vec<String> = csv
-            .lines()
-            .next()
-            .unwrap()
-            .split(',')
-            .map(String::from)
-            .collect();
-        csv.lines()
-            .map(|line| {
-                line.split(',')
-                    .zip(&header)
-                    .filter(|(_, h)| *h != "wall_s" && !h.starts_with("t_"))
-                    .map(|(v, _)| v.to_string())
-                    .collect::<Vec<_>>()
-                    .join(",")
-            })
-            .collect()
-    };
-    assert_eq!(rows(&plain), rows(&filmed));
+    assert_eq!(
+        logo_testkit::metrics_without_timings(&plain),
+        logo_testkit::metrics_without_timings(&filmed)
+    );
     let bytes = |dir: &Path| std::fs::read(dir.join("checkpoint.safetensors")).unwrap();
     assert!(bytes(&plain) == bytes(&filmed), "the checkpoints differ");
     // A video of this checkpoint on an env of other dimensions, or of no episode, is

@@ -5,7 +5,7 @@
 //! LOGO_REQUIRE_WGPU is set (CI sets it).
 #![cfg(feature = "wgpu")]
 
-use logo_testkit::Tiny;
+use logo_testkit::{Tiny, max_relative_error};
 use std::process::Command;
 
 use burn::tensor::Tensor;
@@ -130,14 +130,6 @@ fn iteration<E: Engine>(engine: &E) -> Iteration {
         critic_gradient,
         discriminator_losses,
     }
-}
-
-fn max_relative_error(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs() / scale))
 }
 
 /// float32 on wgpu and on ndarray run the same operations in other orders (reductions,

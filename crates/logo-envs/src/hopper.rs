@@ -33,6 +33,27 @@ pub(crate) fn locomotion_reward(
     (x_velocity + healthy_reward) - ctrl_cost
 }
 
+/// The step of Hopper and Walker2d: v_x + the healthy bonus − 1e-3‖a‖², ending where the
+/// body is no longer healthy. v4 pays the bonus on the terminating step too; v5 does not.
+pub(crate) fn upright_reward(
+    version: Version,
+    healthy: bool,
+    data: &Data,
+    before: BeforeStep,
+    dt: f64,
+    action: &[f64],
+) -> (f64, bool) {
+    let x_velocity = (data.qpos()[0] - before.x) / dt;
+    let healthy_reward = match version {
+        Version::V4 => 1.0,
+        Version::V5 => f64::from(u8::from(healthy)),
+    };
+    (
+        locomotion_reward(x_velocity, healthy_reward, 1e-3, action),
+        !healthy,
+    )
+}
+
 /// qpos[1:] ‖ clip(qvel, ±10): the observation of Hopper and Walker2d.
 pub(crate) fn observe_clipped(data: &Data, obs: &mut [f64]) {
     let (qpos, qvel) = (&data.qpos()[1..], data.qvel());
@@ -62,16 +83,6 @@ impl Task for Hopper {
         observe_clipped(data, obs);
     }
     fn reward(&self, data: &Data, before: BeforeStep, dt: f64, action: &[f64]) -> (f64, bool) {
-        let x_velocity = (data.qpos()[0] - before.x) / dt;
-        let healthy = is_healthy(data);
-        // v4 pays the healthy bonus on the terminating step too; v5 does not.
-        let healthy_reward = match self.version {
-            Version::V4 => 1.0,
-            Version::V5 => f64::from(u8::from(healthy)),
-        };
-        (
-            locomotion_reward(x_velocity, healthy_reward, 1e-3, action),
-            !healthy,
-        )
+        upright_reward(self.version, is_healthy(data), data, before, dt, action)
     }
 }

@@ -1,7 +1,7 @@
 //! Walker2d, as Gymnasium 1.4.0's `walker2d_v4.py` / `walker2d_v5.py` compute it.
 
 use crate::env::Version;
-use crate::hopper::{locomotion_reward, observe_clipped};
+use crate::hopper::{observe_clipped, upright_reward};
 use crate::mujoco_env::{BeforeStep, Data, ResetNoise, Task};
 
 /// Two-legged walker: obs = qpos[1:] ‖ clip(qvel, ±10) (17), reward = v_x + healthy − 1e-3‖a‖².
@@ -40,15 +40,6 @@ impl Task for Walker2d {
         observe_clipped(data, obs);
     }
     fn reward(&self, data: &Data, before: BeforeStep, dt: f64, action: &[f64]) -> (f64, bool) {
-        let x_velocity = (data.qpos()[0] - before.x) / dt;
-        let healthy = is_healthy(data);
-        let healthy_reward = match self.version {
-            Version::V4 => 1.0,
-            Version::V5 => f64::from(u8::from(healthy)),
-        };
-        (
-            locomotion_reward(x_velocity, healthy_reward, 1e-3, action),
-            !healthy,
-        )
+        upright_reward(self.version, is_healthy(data), data, before, dt, action)
     }
 }

@@ -117,23 +117,30 @@ fn replay(
     Ok(worst)
 }
 
+/// The Gymnasium fixture of `base_id`: its manifest, and the float64 values its
+/// trajectories index.
+fn fixture(dir: &Path, base_id: &str) -> (Value, Vec<f64>) {
+    let manifest_path = dir.join(format!("{base_id}.json"));
+    let manifest: Value = serde_json::from_str(
+        &std::fs::read_to_string(&manifest_path)
+            .unwrap_or_else(|e| panic!("{}: {e}", manifest_path.display())),
+    )
+    .unwrap();
+    let bytes = std::fs::read(dir.join(format!("{base_id}.f64"))).unwrap();
+    let data = bytes
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    (manifest, data)
+}
+
 #[test]
 fn every_env_id_matches_gymnasium() {
     let dir = fixtures_dir();
     let mut checked = 0;
     let mut failures = Vec::new();
     for base_id in logo_envs::BASE_ENV_IDS {
-        let manifest_path = dir.join(format!("{base_id}.json"));
-        let manifest: Value = serde_json::from_str(
-            &std::fs::read_to_string(&manifest_path)
-                .unwrap_or_else(|e| panic!("{}: {e}", manifest_path.display())),
-        )
-        .unwrap();
-        let bytes = std::fs::read(dir.join(format!("{base_id}.f64"))).unwrap();
-        let data: Vec<f64> = bytes
-            .chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
-            .collect();
+        let (manifest, data) = fixture(&dir, base_id);
         for meta in manifest["trajectories"].as_array().unwrap() {
             let traj = Trajectory { meta, data: &data };
             // The distance kind with the fixture's lower threshold, on the dense id.
@@ -196,15 +203,7 @@ fn fixtures_cover_termination_truncation_and_both_sparse_branches() {
     let (mut early_termination, mut truncation, mut sparse_paid) = (false, false, false);
     let mut goal_paid = (false, false);
     for base_id in logo_envs::BASE_ENV_IDS {
-        let manifest: Value = serde_json::from_str(
-            &std::fs::read_to_string(dir.join(format!("{base_id}.json"))).unwrap(),
-        )
-        .unwrap();
-        let bytes = std::fs::read(dir.join(format!("{base_id}.f64"))).unwrap();
-        let data: Vec<f64> = bytes
-            .chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
-            .collect();
+        let (manifest, data) = fixture(&dir, base_id);
         for meta in manifest["trajectories"].as_array().unwrap() {
             let traj = Trajectory { meta, data: &data };
             let steps = meta["steps"].as_u64().unwrap();

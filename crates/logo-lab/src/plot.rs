@@ -21,15 +21,13 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::runs::{
-    EVAL_RETURN, ExternalSpec, Metric, Run, discover, each_seed_apart, interpolate, parse_external,
-    parse_label, parse_max_samples, read_external, relabel, up_to,
+    EVAL_RETURN, ExternalSpec, Metric, Run, RunSelection, interpolate, read_external, up_to,
 };
 
 #[derive(Args)]
 pub struct PlotArgs {
-    /// Run folders, or folders holding runs (a sweep's output).
-    #[arg(required = true)]
-    runs: Vec<PathBuf>,
+    #[command(flatten)]
+    selection: RunSelection,
     /// The figure: .png or .svg. Its data go to the same path with .csv.
     #[arg(long)]
     out: PathBuf,
@@ -56,23 +54,6 @@ pub struct PlotArgs {
     /// Draw log10 of the metric (seeds are averaged in log space); values ≤ 0 are skipped.
     #[arg(long)]
     log10: bool,
-    /// Draw each run only up to this many samples, to compare runs of different lengths
-    /// at an equal budget (e.g. 1e6 or 1000000).
-    #[arg(long, value_parser = parse_max_samples)]
-    max_samples: Option<f64>,
-    /// Draw every seed as its own line ("<configuration> seed N") instead of the mean ±
-    /// std band over a configuration's seeds: for studies of one to three seeds.
-    #[arg(long)]
-    each_seed: bool,
-    /// An outside curve drawn over the runs' bands: CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]
-    /// (e.g. a published curve: docs/results/reference-curves/). Empty fields are
-    /// skipped; --smooth and --max-samples apply to it too. Repeatable.
-    #[arg(long = "external", value_parser = parse_external)]
-    externals: Vec<ExternalSpec>,
-    /// A configuration's name in the legend, FOLDER=NAME (e.g. hopper=LOGO: a sweep
-    /// names a configuration after its config file). Repeatable.
-    #[arg(long = "label", value_parser = parse_label)]
-    labels: Vec<(String, String)>,
     /// The line: the mean over a configuration's seeds, or their interquartile mean.
     #[arg(long, value_enum, default_value_t = Stat::Mean)]
     stat: Stat,
@@ -273,12 +254,9 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         column: args.metric.clone(),
         log10: args.log10,
     };
-    let mut runs = discover(&args.runs, &metric)?;
-    relabel(&mut runs, &args.labels)?;
-    if args.each_seed {
-        each_seed_apart(&mut runs);
-    }
-    if let Some(max_samples) = args.max_samples {
+    let selection = &args.selection;
+    let mut runs = selection.discover(&metric)?;
+    if let Some(max_samples) = selection.max_samples {
         up_to(&mut runs, max_samples)?;
     }
     ensure!(
@@ -306,7 +284,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         );
     }
     let title = args.title.clone().unwrap_or_else(|| envs.join(", "));
-    let externals = external_curves(&args.externals, args.smooth, args.max_samples)?;
+    let externals = external_curves(&selection.externals, args.smooth, selection.max_samples)?;
     let csv_path = args.out.with_extension("csv");
     write_csv(&csv_path, curves.iter().chain(&externals))?;
     let figure = Figure {
@@ -578,6 +556,7 @@ fn trim(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::runs::{each_seed_apart, parse_external};
 
     fn run(group: &str, points: &[(f64, f64)]) -> Run {
         Run::unseeded(group, points.to_vec())

@@ -199,6 +199,45 @@ impl Run {
     }
 }
 
+/// Which runs a figure or a table reads, and how it names them: the flags `logo plot`
+/// and `logo summary` share.
+#[derive(clap::Args, Debug, Clone)]
+pub struct RunSelection {
+    /// Run folders, or folders holding runs (a sweep's output).
+    #[arg(required = true)]
+    pub runs: Vec<PathBuf>,
+    /// Read each run only up to this many samples, to compare runs of different lengths
+    /// at an equal budget (e.g. 1e6 or 1000000).
+    #[arg(long, value_parser = parse_max_samples)]
+    pub max_samples: Option<f64>,
+    /// Each seed apart, as its own configuration ("<configuration> seed N"), instead of
+    /// a configuration's seeds pooled: for studies of one to three seeds.
+    #[arg(long)]
+    pub each_seed: bool,
+    /// An outside curve, read as one more configuration of one seed (e.g. a published
+    /// curve: docs/results/reference-curves/): CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL].
+    /// Empty fields are skipped; --max-samples (and plot's --smooth) apply to it too.
+    /// Repeatable.
+    #[arg(long = "external", value_parser = parse_external)]
+    pub externals: Vec<ExternalSpec>,
+    /// A configuration's name in the figure or table, FOLDER=NAME (e.g. hopper=LOGO: a
+    /// sweep names a configuration after its config file). Repeatable.
+    #[arg(long = "label", value_parser = parse_label)]
+    pub labels: Vec<(String, String)>,
+}
+
+impl RunSelection {
+    /// The runs found under the folders, named as `--label` and `--each-seed` say.
+    pub fn discover(&self, metric: &Metric) -> Result<Vec<Run>> {
+        let mut runs = discover(&self.runs, metric)?;
+        relabel(&mut runs, &self.labels)?;
+        if self.each_seed {
+            each_seed_apart(&mut runs);
+        }
+        Ok(runs)
+    }
+}
+
 /// Every run under `paths` (see the module doc), reading `metric`.
 pub fn discover(paths: &[PathBuf], metric: &Metric) -> Result<Vec<Run>> {
     let mut dirs = Vec::new();

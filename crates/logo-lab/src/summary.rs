@@ -7,22 +7,19 @@
 //! quoted, as the mean of the evaluations nearest each sample count.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 
 use anyhow::{Result, bail, ensure};
 use clap::Args;
 use logo_stats::{Aggregate, Bootstrap, Estimate, mean_std, median};
 
 use crate::runs::{
-    EVAL_RETURN, ExternalSpec, Metric, Run, discover, each_seed_apart, external_runs, interpolate,
-    parse_external, parse_label, parse_max_samples, relabel, up_to,
+    EVAL_RETURN, Metric, Run, RunSelection, external_runs, interpolate, parse_max_samples, up_to,
 };
 
 #[derive(Args)]
 pub struct SummaryArgs {
-    /// Run folders, or folders holding runs (a sweep's output).
-    #[arg(required = true)]
-    runs: Vec<PathBuf>,
+    #[command(flatten)]
+    selection: RunSelection,
     /// Also report each configuration's return at this many samples (e.g. 2e6 or 2M;
     /// linear between evaluations; a run that stops earlier is left out of that column).
     /// Repeatable: one column each.
@@ -38,20 +35,6 @@ pub struct SummaryArgs {
     /// first needed (median over those seeds).
     #[arg(long)]
     threshold: Option<f64>,
-    /// Read each run only up to this many samples, as `logo plot --max-samples`.
-    #[arg(long, value_parser = parse_max_samples)]
-    max_samples: Option<f64>,
-    /// One row per seed ("<configuration> seed N"), as `logo plot --each-seed`.
-    #[arg(long)]
-    each_seed: bool,
-    /// An outside curve as one more row (one seed): CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL],
-    /// as `logo plot --external`. Repeatable.
-    #[arg(long = "external", value_parser = parse_external)]
-    externals: Vec<ExternalSpec>,
-    /// A configuration's name in the table, FOLDER=NAME (e.g. hopper=LOGO: a sweep
-    /// names a configuration after its config file). Repeatable.
-    #[arg(long = "label", value_parser = parse_label)]
-    labels: Vec<(String, String)>,
     /// Leave out the second table (mean and IQM over seeds with bootstrap intervals).
     #[arg(long)]
     no_intervals: bool,
@@ -247,12 +230,9 @@ pub fn run(args: &SummaryArgs) -> Result<()> {
         column: args.metric.clone(),
         log10: false,
     };
-    let mut runs = discover(&args.runs, &metric)?;
-    relabel(&mut runs, &args.labels)?;
-    if args.each_seed {
-        each_seed_apart(&mut runs);
-    }
-    let external = external_runs(&args.externals)?;
+    let selection = &args.selection;
+    let mut runs = selection.discover(&metric)?;
+    let external = external_runs(&selection.externals)?;
     if let Some(clash) = external
         .iter()
         .find(|e| runs.iter().any(|r| r.group == e.group))
@@ -263,7 +243,7 @@ pub fn run(args: &SummaryArgs) -> Result<()> {
         );
     }
     runs.extend(external);
-    if let Some(max_samples) = args.max_samples {
+    if let Some(max_samples) = selection.max_samples {
         up_to(&mut runs, max_samples)?;
     }
     let rule = args.window.map_or(AtRule::Interpolate, AtRule::Window);

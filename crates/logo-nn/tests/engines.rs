@@ -6,6 +6,7 @@ use burn::tensor::Tensor;
 use logo_nn::flat::{from_f64, to_f64, vec_to_params};
 use logo_nn::loss::{fisher_output_weights, gaussian_kl, value_and_grad};
 use logo_nn::{BurnEngine, Cpu, Cpu32, Engine, Kernels, MlpConfig};
+use logo_testkit::max_relative_error;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -13,14 +14,6 @@ const ROWS: usize = 700;
 
 fn random(rng: &mut ChaCha8Rng, n: usize, scale: f64) -> Vec<f64> {
     (0..n).map(|_| rng.random_range(-scale..scale)).collect()
-}
-
-fn max_relative_error(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs() / scale))
 }
 
 /// Every result of the seam on one engine, for one random net and batch.

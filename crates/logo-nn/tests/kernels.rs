@@ -5,6 +5,7 @@ use burn::backend::ndarray::NdArrayDevice;
 use logo_nn::flat::{flatten_layers, from_f64, params_to_vec, split_layers, to_f64, vec_to_params};
 use logo_nn::kernels::HostMlp;
 use logo_nn::{Cpu, Mlp, MlpConfig};
+use logo_testkit::max_relative_error;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -31,14 +32,6 @@ fn setup() -> (Mlp<Cpu>, HostMlp, Vec<f64>, ChaCha8Rng) {
     assert_eq!(host.dims, vec![5, 16, 12, 3]);
     let x = random(&mut rng, ROWS * 5, 2.0);
     (mlp, host, x, rng)
-}
-
-fn max_relative_error(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs() / scale))
 }
 
 #[test]

@@ -63,7 +63,9 @@ def test_overrides_change_the_config_and_tables_merge(tmp_path):
     assert len(metrics_without_timings(run.path)) == 2
 
 
-INTERRUPTED = textwrap.dedent(
+# Trains until Ctrl-C, then exits 130. With "self" it sends itself SIGINT from its progress
+# callback at iteration 2; with "outside" the signal comes from the test, as a terminal's.
+INTERRUPTIBLE = textwrap.dedent(
     """
     import os, signal, sys
     import logo_rl
@@ -71,9 +73,10 @@ INTERRUPTED = textwrap.dedent(
         print(line, flush=True)
         if line.startswith("[   2/"):
             os.kill(os.getpid(), signal.SIGINT)
+    progress = say if sys.argv[4] == "self" else True
     try:
         logo_rl.train(sys.argv[1], seed=3, iterations=int(sys.argv[3]), out=sys.argv[2],
-                      tensorboard=False, progress=say)
+                      tensorboard=False, progress=progress)
     except KeyboardInterrupt:
         print("KeyboardInterrupt", flush=True)
         sys.exit(130)
@@ -84,7 +87,7 @@ INTERRUPTED = textwrap.dedent(
 def test_ctrl_c_keeps_a_checkpoint_that_resumes_exactly(cli_run, tmp_path):
     out = tmp_path / "interrupted"
     done = subprocess.run(
-        [sys.executable, "-c", INTERRUPTED, str(IDP_CONFIG), str(out), str(ITERATIONS)],
+        [sys.executable, "-c", INTERRUPTIBLE, str(IDP_CONFIG), str(out), str(ITERATIONS), "self"],
         capture_output=True, text=True, cwd=ROOT, timeout=600,
     )
     assert done.returncode == 130, done.stdout + done.stderr
@@ -95,26 +98,13 @@ def test_ctrl_c_keeps_a_checkpoint_that_resumes_exactly(cli_run, tmp_path):
     assert metrics_without_timings(run.path) == metrics_without_timings(cli_run)
 
 
-SLOW_PRINTER = textwrap.dedent(
-    """
-    import sys
-    import logo_rl
-    try:
-        logo_rl.train(sys.argv[1], seed=3, iterations=int(sys.argv[3]), out=sys.argv[2],
-                      tensorboard=False)
-    except KeyboardInterrupt:
-        print("KeyboardInterrupt", flush=True)
-        sys.exit(130)
-    """
-)
-
-
 def test_ctrl_c_while_rust_computes_stops_after_the_iteration(cli_run, tmp_path):
     # SIGINT from outside, as a terminal's Ctrl-C: Python sees it when the trainer asks
     # between iterations (the GIL is released while Rust computes).
     out = tmp_path / "sigint"
     child = subprocess.Popen(
-        [sys.executable, "-u", "-c", SLOW_PRINTER, str(IDP_CONFIG), str(out), str(ITERATIONS)],
+        [sys.executable, "-u", "-c", INTERRUPTIBLE, str(IDP_CONFIG), str(out), str(ITERATIONS),
+         "outside"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT,
     )
     for line in child.stdout:

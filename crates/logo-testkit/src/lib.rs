@@ -190,6 +190,33 @@ impl Tiny {
     }
 }
 
+/// The rows of `dir`'s metrics.csv (its header first) without the timing columns,
+/// `wall_s` and `t_*`: what two runs of the same numbers write alike.
+pub fn metrics_without_timings(dir: &Path) -> Vec<String> {
+    let path = dir.join("metrics.csv");
+    let csv = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let header: Vec<&str> = csv.lines().next().unwrap_or_default().split(',').collect();
+    csv.lines()
+        .map(|line| {
+            line.split(',')
+                .zip(&header)
+                .filter(|(_, h)| **h != "wall_s" && !h.starts_with("t_"))
+                .map(|(v, _)| v)
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect()
+}
+
+/// The largest |a − b| over the largest |b|: how far `a` is from `b`, at `b`'s scale.
+pub fn max_relative_error(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs() / scale))
+}
+
 #[cfg(test)]
 mod tests {
     use super::Tiny;
