@@ -109,7 +109,7 @@ pub enum CheckpointError {
     },
     #[error("{}: tensor {name} holds a non-finite value", path.display())]
     NonFinite { path: PathBuf, name: String },
-    #[error("{}: tensors {names:?} belong to no part of the network under {prefix:?}", path.display())]
+    #[error("{}: tensors {names:?} belong to no part of the networks under {prefix:?}", path.display())]
     Unexpected {
         path: PathBuf,
         prefix: String,
@@ -125,6 +125,14 @@ pub struct Checkpoint {
     tensors: BTreeMap<String, (Vec<usize>, Vec<f64>)>,
     /// Where it was read from, for error messages.
     origin: PathBuf,
+}
+
+/// The start of every name under `prefix`: none where it is empty.
+fn root_path(prefix: &str) -> Vec<String> {
+    (!prefix.is_empty())
+        .then(|| prefix.to_string())
+        .into_iter()
+        .collect()
 }
 
 /// Collects a module's float parameters under their dotted paths.
@@ -210,23 +218,25 @@ impl Checkpoint {
         }
     }
 
-    /// Adds every float parameter of `module` as `<prefix>.<path>`.
+    /// Adds every float parameter of `module` as `<prefix>.<path>` (as `<path>` where
+    /// `prefix` is empty: a module of modules names each by its field).
     pub fn insert<B: Backend, M: Module<B>>(&mut self, prefix: &str, module: &M) {
         module.visit(&mut Named {
-            path: vec![prefix.to_string()],
+            path: root_path(prefix),
             out: &mut self.tensors,
         });
     }
 
     /// `module` with its parameters read from `<prefix>.<path>`; every parameter must be
-    /// there with its shape, and nothing else may be under the prefix.
+    /// there with its shape, and nothing else may be under the prefix (nothing else in
+    /// the file, where `prefix` is empty).
     pub fn apply<B: Backend, M: Module<B>>(
         &self,
         prefix: &str,
         module: M,
     ) -> Result<M, CheckpointError> {
         let mut apply = Apply {
-            path: vec![prefix.to_string()],
+            path: root_path(prefix),
             checkpoint: self,
             used: Vec::new(),
             error: None,
@@ -235,7 +245,10 @@ impl Checkpoint {
         if let Some(e) = apply.error {
             return Err(e);
         }
-        let dotted = format!("{prefix}.");
+        let dotted = root_path(prefix)
+            .iter()
+            .map(|p| format!("{p}."))
+            .collect::<String>();
         let unexpected: Vec<String> = self
             .tensors
             .keys()

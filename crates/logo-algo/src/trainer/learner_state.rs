@@ -10,6 +10,7 @@
 use std::path::Path;
 
 use burn::module::Module;
+use burn::tensor::backend::Backend;
 use logo_envs::{ResetPoint, RngState};
 use logo_nn::flat::params_to_vec;
 use logo_nn::{
@@ -57,12 +58,14 @@ pub struct GuidanceState {
 
 /// The networks as burn modules on the CPU: their definitions (the reference's
 /// initialisation) and the form checkpoints are written and read in, whatever the engine.
-#[derive(Clone)]
-pub struct Networks {
-    pub policy: GaussianPolicy<Cpu>,
-    pub critic: Vec<ValueNet<Cpu>>,
-    pub guidance_critic: Option<Vec<ValueNet<Cpu>>>,
-    pub discriminator: Option<Discriminator<Cpu>>,
+/// A checkpoint names each tensor by its path here (`policy.mean.layers.0.weight`,
+/// `critic.1.net.layers.2.bias`).
+#[derive(Module, Debug)]
+pub struct Networks<B: Backend = Cpu> {
+    pub policy: GaussianPolicy<B>,
+    pub critic: Vec<ValueNet<B>>,
+    pub guidance_critic: Option<Vec<ValueNet<B>>>,
+    pub discriminator: Option<Discriminator<B>>,
 }
 
 /// The sampler's generator and every env copy's reset point between two batches.
@@ -129,7 +132,7 @@ impl LearnerState {
         let bad = |what: String| -> TrainError { format!("{}: {what}", path.display()).into() };
         let (config, record) = read_record(path, &ckpt, iterations).map_err(bad)?;
         let meta = &ckpt.meta;
-        let networks = Networks::init(&config, meta.obs_dim, meta.act_dim)?.read(&ckpt)?;
+        let networks = ckpt.apply("", Networks::init(&config, meta.obs_dim, meta.act_dim)?)?;
         let state = Self {
             iteration: record.iteration,
             samples: record.samples,
@@ -182,15 +185,7 @@ impl LearnerState {
             "resume": self.record(),
         });
         let mut ckpt = Checkpoint::new(meta);
-        let networks = &self.networks;
-        ckpt.insert("policy", &networks.policy);
-        ckpt.insert("critic", &networks.critic);
-        if let Some(nets) = &networks.guidance_critic {
-            ckpt.insert("guidance_critic", nets);
-        }
-        if let Some(d) = &networks.discriminator {
-            ckpt.insert("discriminator", d);
-        }
+        ckpt.insert("", &self.networks);
         ckpt.save(path)?;
         Ok(())
     }
@@ -406,7 +401,6 @@ impl Networks {
     /// held from the seeding to the last parameter drawn, or trainers built at the same
     /// time on other threads (tests, sweeps) would interleave their draws.
     fn init(config: &TrainConfig, obs_dim: usize, act_dim: usize) -> Result<Self, TrainError> {
-        use burn::tensor::backend::Backend;
         static INIT: std::sync::Mutex<()> = std::sync::Mutex::new(());
         let _init = INIT.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         let device = Default::default();
@@ -425,38 +419,16 @@ impl Networks {
             }
             _ => None,
         };
-        // burn initialises parameters lazily, at their first use: draw them all now, under
-        // the lock, in a fixed order.
-        let _ = params_to_vec(&policy);
-        let _ = params_to_vec(&critic);
-        if let Some(nets) = &guidance_critic {
-            let _ = params_to_vec(nets);
-        }
-        if let Some(d) = &discriminator {
-            let _ = params_to_vec(d);
-        }
-        Ok(Self {
+        let networks = Self {
             policy,
             critic,
             guidance_critic,
             discriminator,
-        })
-    }
-
-    /// These networks with the parameters `ckpt` holds for them.
-    fn read(self, ckpt: &Checkpoint) -> Result<Self, TrainError> {
-        Ok(Self {
-            policy: ckpt.apply("policy", self.policy)?,
-            critic: ckpt.apply("critic", self.critic)?,
-            guidance_critic: self
-                .guidance_critic
-                .map(|nets| ckpt.apply("guidance_critic", nets))
-                .transpose()?,
-            discriminator: self
-                .discriminator
-                .map(|d| ckpt.apply("discriminator", d))
-                .transpose()?,
-        })
+        };
+        // burn initialises parameters lazily, at their first use: draw them all now, under
+        // the lock, in a fixed order (the fields').
+        let _ = params_to_vec(&networks);
+        Ok(networks)
     }
 }
 
