@@ -90,7 +90,9 @@ fn the_fast_preset_is_the_default_with_its_levers() {
         let logo = TrainConfig::load(&root.join("logo").join(format!("{env}.toml"))).unwrap();
         let path = root.join("logo-fast").join(format!("{env}.toml"));
         let mut fast = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
-        assert_eq!(fast.dtype, Some(FloatType::F32), "{}", path.display());
+        // IDP's preset keeps float64, which learned faster there (docs/results.md).
+        let dtype = (env != "inverted_double_pendulum").then_some(FloatType::F32);
+        assert_eq!(fast.dtype, dtype, "{}", path.display());
         let CriticFit::Lbfgs(fit) = &mut fast.critic.fit else {
             panic!("{}: the preset's critic fit is not L-BFGS", path.display());
         };
