@@ -1,11 +1,11 @@
 //! A run killed after its last checkpoint and resumed ends exactly where an uninterrupted
 //! run of the same seed does: same final checkpoint bytes, same metrics.
 
-use logo_testkit::{Tiny, metrics_without_timings, scratch};
 use std::path::Path;
 
 use logo_algo::{TrainConfig, Trainer};
 use logo_nn::Kernels;
+use logo_testkit::{Tiny, metrics_without_timings, scratch};
 
 fn config(dir: &Path, guidance: bool) -> TrainConfig {
     let tiny = match guidance {

@@ -2,12 +2,12 @@
 //! and at two, and a pipelined run killed (SIGKILL) at any moment resumes to the same
 //! final checkpoint and metrics as one never interrupted, on its own float type.
 
-use logo_testkit::{Tiny, metrics_without_timings, scratch};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use logo_nn::Checkpoint;
+use logo_testkit::{Tiny, metrics_without_timings, scratch};
 
 fn logo() -> Command {
     Command::new(env!("CARGO_BIN_EXE_logo"))

@@ -214,10 +214,10 @@ pub struct RunSelection {
     /// a configuration's seeds pooled: for studies of one to three seeds.
     #[arg(long)]
     pub each_seed: bool,
-    /// An outside curve, read as one more configuration of one seed (e.g. a published
-    /// curve: docs/results/reference-curves/): CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL].
-    /// Empty fields are skipped; --max-samples (and plot's --smooth) apply to it too.
-    /// Repeatable.
+    /// An outside curve (e.g. a published one: docs/results/reference-curves/):
+    /// CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]. `logo plot` draws it over the runs' bands,
+    /// `logo summary` reads it as one more configuration of one seed. Empty fields are
+    /// skipped; --max-samples (and plot's --smooth) apply to it too. Repeatable.
     #[arg(long = "external", value_parser = parse_external)]
     pub externals: Vec<ExternalSpec>,
     /// A configuration's name in the figure or table, FOLDER=NAME (e.g. hopper=LOGO: a
@@ -227,7 +227,8 @@ pub struct RunSelection {
 }
 
 impl RunSelection {
-    /// The runs found under the folders, named as `--label` and `--each-seed` say.
+    /// The runs found under the folders, named as `--label` and `--each-seed` say. Each
+    /// caller cuts them at `--max-samples` itself (summary after adding its externals).
     pub fn discover(&self, metric: &Metric) -> Result<Vec<Run>> {
         let mut runs = discover(&self.runs, metric)?;
         relabel(&mut runs, &self.labels)?;

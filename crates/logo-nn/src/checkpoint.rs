@@ -109,7 +109,7 @@ pub enum CheckpointError {
     },
     #[error("{}: tensor {name} holds a non-finite value", path.display())]
     NonFinite { path: PathBuf, name: String },
-    #[error("{}: tensors {names:?} belong to no part of the networks under {prefix:?}", path.display())]
+    #[error("{}: tensors {names:?} belong to {}", path.display(), owner(prefix))]
     Unexpected {
         path: PathBuf,
         prefix: String,
@@ -125,6 +125,14 @@ pub struct Checkpoint {
     tensors: BTreeMap<String, (Vec<usize>, Vec<f64>)>,
     /// Where it was read from, for error messages.
     origin: PathBuf,
+}
+
+/// Where the tensors of an `Unexpected` error were looked for.
+fn owner(prefix: &str) -> String {
+    match prefix {
+        "" => "none of the networks".into(),
+        _ => format!("no part of the network under {prefix:?}"),
+    }
 }
 
 /// The start of every name under `prefix`: none where it is empty.

@@ -247,3 +247,33 @@ with safe_open(sys.argv[1], "np") as f:
         theta[1].to_bits()
     );
 }
+
+/// A read with no prefix owns every tensor of the file: one belonging to no part of the
+/// module is refused, named, where a read under a prefix ignores what is outside it.
+#[test]
+fn a_whole_file_read_refuses_a_stray_tensor() {
+    let device = Default::default();
+    let policy = PolicyConfig::new(11, 3).init::<Cpu>(&device);
+    let mut ckpt = Checkpoint::new(meta());
+    ckpt.insert("", &policy);
+    ckpt.insert("stray", &ValueNetConfig::new(11).init::<Cpu>(&device));
+    let path = scratch("stray").join("ckpt.safetensors");
+    ckpt.save(&path).unwrap();
+    let loaded = Checkpoint::load(&path).unwrap();
+    let fresh = || PolicyConfig::new(11, 3).init::<Cpu>(&device);
+    let err = loaded.apply("", fresh()).unwrap_err().to_string();
+    assert!(
+        err.contains("stray.") && err.contains("belong to none of the networks"),
+        "{err}"
+    );
+    let mut under = Checkpoint::new(meta());
+    under.insert("policy", &policy);
+    under.insert("stray", &ValueNetConfig::new(11).init::<Cpu>(&device));
+    under.save(&path).unwrap();
+    assert!(
+        Checkpoint::load(&path)
+            .unwrap()
+            .apply("policy", fresh())
+            .is_ok()
+    );
+}

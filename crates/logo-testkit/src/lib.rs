@@ -195,7 +195,12 @@ impl Tiny {
 pub fn metrics_without_timings(dir: &Path) -> Vec<String> {
     let path = dir.join("metrics.csv");
     let csv = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let header: Vec<&str> = csv.lines().next().unwrap_or_default().split(',').collect();
+    let header: Vec<&str> = csv
+        .lines()
+        .next()
+        .unwrap_or_else(|| panic!("{}: empty", path.display()))
+        .split(',')
+        .collect();
     csv.lines()
         .map(|line| {
             line.split(',')
