@@ -137,10 +137,11 @@ fn owner(prefix: &str) -> String {
 
 /// The start of every name under `prefix`: none where it is empty.
 fn root_path(prefix: &str) -> Vec<String> {
-    (!prefix.is_empty())
-        .then(|| prefix.to_string())
-        .into_iter()
-        .collect()
+    if prefix.is_empty() {
+        Vec::new()
+    } else {
+        vec![prefix.to_string()]
+    }
 }
 
 /// Collects a module's float parameters under their dotted paths.
@@ -253,10 +254,12 @@ impl Checkpoint {
         if let Some(e) = apply.error {
             return Err(e);
         }
-        let dotted = root_path(prefix)
-            .iter()
-            .map(|p| format!("{p}."))
-            .collect::<String>();
+        // Every name in the file is under the empty prefix.
+        let dotted = if prefix.is_empty() {
+            String::new()
+        } else {
+            format!("{prefix}.")
+        };
         let unexpected: Vec<String> = self
             .tensors
             .keys()

@@ -254,26 +254,23 @@ with safe_open(sys.argv[1], "np") as f:
 fn a_whole_file_read_refuses_a_stray_tensor() {
     let device = Default::default();
     let policy = PolicyConfig::new(11, 3).init::<Cpu>(&device);
-    let mut ckpt = Checkpoint::new(meta());
-    ckpt.insert("", &policy);
-    ckpt.insert("stray", &ValueNetConfig::new(11).init::<Cpu>(&device));
     let path = scratch("stray").join("ckpt.safetensors");
-    ckpt.save(&path).unwrap();
-    let loaded = Checkpoint::load(&path).unwrap();
-    let fresh = || PolicyConfig::new(11, 3).init::<Cpu>(&device);
-    let err = loaded.apply("", fresh()).unwrap_err().to_string();
-    assert!(
-        err.contains("stray.") && err.contains("belong to none of the networks"),
-        "{err}"
-    );
-    let mut under = Checkpoint::new(meta());
-    under.insert("policy", &policy);
-    under.insert("stray", &ValueNetConfig::new(11).init::<Cpu>(&device));
-    under.save(&path).unwrap();
-    assert!(
-        Checkpoint::load(&path)
+    for prefix in ["", "policy"] {
+        let mut ckpt = Checkpoint::new(meta());
+        ckpt.insert(prefix, &policy);
+        ckpt.insert("stray", &ValueNetConfig::new(11).init::<Cpu>(&device));
+        ckpt.save(&path).unwrap();
+        let read = Checkpoint::load(&path)
             .unwrap()
-            .apply("policy", fresh())
-            .is_ok()
-    );
+            .apply(prefix, PolicyConfig::new(11, 3).init::<Cpu>(&device));
+        if prefix.is_empty() {
+            let err = read.unwrap_err().to_string();
+            assert!(
+                err.contains("stray.") && err.contains("belong to none of the networks"),
+                "{err}"
+            );
+        } else {
+            assert!(read.is_ok(), "under {prefix:?}");
+        }
+    }
 }
