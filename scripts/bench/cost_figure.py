@@ -28,7 +28,7 @@ def main() -> None:
                 row[key] = float(row[key])
             except (KeyError, ValueError):
                 sys.exit(f"{path}: row {row.get('setting')!r}: `{key}` must be a number")
-    fig, ax = plt.subplots(figsize=(8, 0.55 * len(rows) + 1.2))
+    fig, ax = plt.subplots(figsize=(10, 0.55 * len(rows) + 1.2))
     for y, row in enumerate(reversed(rows)):
         ax.barh(y, row["high"], color="#9ecae1")
         ax.barh(y, row["low"], color="#3182bd")
@@ -36,7 +36,7 @@ def main() -> None:
         ax.text(row["high"] + 5, y, f"{label} s  {row['note']}", va="center", fontsize=8)
     ax.set_yticks(range(len(rows)), [r["setting"] for r in reversed(rows)], fontsize=9)
     ax.set_xlabel("seconds per 1M samples, sparse Hopper, 2 vCPUs (dark: lower measurement)")
-    ax.set_xlim(0, max(r["high"] for r in rows) * 1.9)
+    ax.set_xlim(0, max(r["high"] for r in rows) * 2.1)
     fig.tight_layout()
     out = path.with_suffix(".png")
     fig.savefig(out, dpi=110)
