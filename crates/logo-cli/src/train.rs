@@ -203,10 +203,11 @@ pub fn run_job(mut job: Job, engine: &EngineArgs, console: &mut dyn Console) -> 
         }
         Start::New(config, _) => {
             let engine = engine.for_config(config);
-            // The run's stored config names the type it trains in where it names one, so
-            // a run made from it again trains the same way.
-            if let (Some(_), Some(dtype)) = (config.dtype, engine.dtype) {
-                config.dtype = Some(dtype.into());
+            // The run's stored config names the type it trains in where it names one (a
+            // --dtype flag wins over it), so a run made from it again trains the same way.
+            // `for_config` gave the engine a dtype wherever the config names one.
+            if config.dtype.is_some() {
+                config.dtype = engine.dtype.map(Into::into);
             }
             engine
         }
