@@ -10,9 +10,12 @@ use logo_envs::{EnvConfig, EnvSpec};
 use logo_nn::DiscriminatorInit;
 
 use crate::critic::CriticConfig;
+use crate::episode::SuccessRule;
 use crate::policy_update::PolicyUpdateConfig;
 use crate::sampler::RolloutMode;
-use crate::validate::{MAX_ENVS, MAX_SAMPLES_PER_ITER, check_positive, check_widths};
+use crate::validate::{
+    MAX_ENVS, MAX_EVAL_EPISODES, MAX_SAMPLES_PER_ITER, check_positive, check_widths,
+};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -63,8 +66,16 @@ pub struct TrainConfig {
     pub skip_improvement_without_reward: bool,
     #[serde(default = "default_one")]
     pub eval_every: usize,
+    /// Each iteration's evaluation plays whole episodes until at least `eval_steps`
+    /// steps and at least `eval_episodes` episodes (default 1: the steps alone, as the
+    /// reference's 2,048) have been played; the best policy is chosen on it.
     #[serde(default = "default_eval_steps")]
     pub eval_steps: usize,
+    #[serde(default = "default_one")]
+    pub eval_episodes: usize,
+    /// When an evaluation episode counts as reaching the goal (see [`SuccessRule`]).
+    #[serde(default)]
+    pub success: SuccessRule,
     /// Where each iteration's evaluation episodes start: `"fixed"` (the default: the
     /// same initial states at every iteration, so that iterations compare on equal
     /// footing) or `"fresh"` (new ones each iteration, as the LOGO reference code
@@ -121,6 +132,9 @@ pub struct GuidanceConfig {
     pub observe: Option<usize>,
     #[serde(default = "default_disc_lr")]
     pub discriminator_lr: f64,
+    /// Full-batch Adam steps of the discriminator per iteration (the reference's 1).
+    #[serde(default = "default_one")]
+    pub discriminator_steps: usize,
     #[serde(default = "default_hidden")]
     pub discriminator_hidden: Vec<usize>,
     /// The discriminator's output layer at the start: "reference" (×0.1, bias 0: the
@@ -318,6 +332,7 @@ impl TrainConfig {
             ("threads", self.threads),
             ("eval_every", self.eval_every),
             ("eval_steps", self.eval_steps),
+            ("eval_episodes", self.eval_episodes),
             ("checkpoint_every", self.checkpoint_every),
         ];
         if let Some((key, _)) = positive.iter().find(|(_, v)| *v == 0) {
@@ -333,6 +348,7 @@ impl TrainConfig {
                 MAX_SAMPLES_PER_ITER,
             ),
             ("eval_steps", self.eval_steps, MAX_SAMPLES_PER_ITER),
+            ("eval_episodes", self.eval_episodes, MAX_EVAL_EPISODES),
             ("num_envs", self.num_envs, MAX_ENVS),
             ("threads", self.threads, MAX_ENVS),
         ];
@@ -472,6 +488,9 @@ impl GuidanceConfig {
             ));
         }
         check_positive("guidance.discriminator_lr", self.discriminator_lr, false)?;
+        if self.discriminator_steps == 0 {
+            return Err("guidance.discriminator_steps must be at least 1".into());
+        }
         check_widths("guidance.discriminator_hidden", &self.discriminator_hidden)?;
         if self.observe == Some(0) {
             return Err("guidance.observe must be at least 1".into());

@@ -28,6 +28,8 @@ pub struct DiscriminatorTrainer<E: Engine> {
     pub act_dim: usize,
     pub optim: Adam,
     lr: f64,
+    /// Full-batch Adam steps per iteration (the reference takes 1).
+    steps: usize,
     /// The demonstrations as input rows, uploaded once.
     demo_rows: E::Rows,
 }
@@ -38,6 +40,7 @@ impl<E: Engine> DiscriminatorTrainer<E> {
         module: &Discriminator<B>,
         demos: &Demonstrations,
         lr: f64,
+        steps: usize,
     ) -> Self {
         let dims = module.net.dims();
         let inputs = censored_inputs(&demos.obs, &demos.actions, demos.act_dim, module.observe);
@@ -49,6 +52,7 @@ impl<E: Engine> DiscriminatorTrainer<E> {
             act_dim: demos.act_dim,
             optim: Adam::default(),
             lr,
+            steps,
         }
     }
 
@@ -76,8 +80,19 @@ impl<E: Engine> DiscriminatorTrainer<E> {
         engine.download(guidance_reward(logits(engine.forward(&self.net, inputs))))
     }
 
-    /// One Adam step on the BCE loss; returns the loss before the step.
+    /// The iteration's Adam steps on the BCE loss; returns the loss before the first.
     pub fn update(&mut self, engine: &E, policy_inputs: &E::Rows) -> f64 {
+        let before = self.step(engine, policy_inputs);
+        for _ in 1..self.steps {
+            self.step(engine, policy_inputs);
+        }
+        // A non-finite parameter reports as a non-finite loss (the trainer stops on it).
+        let finite = engine.params(&self.net).iter().all(|v| v.is_finite());
+        if finite { before } else { f64::NAN }
+    }
+
+    /// One Adam step on the BCE loss; returns the loss before the step.
+    fn step(&mut self, engine: &E, policy_inputs: &E::Rows) -> f64 {
         let mut value = 0.0;
         let mut grad = vec![0.0; engine.params(&self.net).len()];
         for (rows, label_one) in [(policy_inputs, true), (&self.demo_rows, false)] {
@@ -92,12 +107,7 @@ impl<E: Engine> DiscriminatorTrainer<E> {
         let mut theta = engine.params(&self.net);
         self.optim.step(&mut theta, &grad, self.lr);
         self.net = engine.net(&self.dims, &theta);
-        // A non-finite parameter reports as a non-finite loss (the trainer stops on it).
-        if theta.iter().all(|v| v.is_finite()) {
-            value
-        } else {
-            f64::NAN
-        }
+        value
     }
 }
 

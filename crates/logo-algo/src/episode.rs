@@ -19,6 +19,41 @@ pub struct Episode {
     /// Root mean square over every action component of every step, as given to the env
     /// (before MuJoCo clamps it to the actuator range).
     pub action_rms: f64,
+    /// Whether the task reported its goal reached at some step (None: it reports none).
+    pub reached: Option<bool>,
+}
+
+/// When an episode counts as a success, a config's `success`: what the task reports
+/// (`"task"`, the default: a sparse kind's goal, a Python env's `info["is_success"]`),
+/// an episode that ends by termination rather than the time limit (`"terminated"`: a
+/// task that stops at its goal, as MountainCar does), or nothing (`"none"`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SuccessRule {
+    #[default]
+    Task,
+    Terminated,
+    None,
+}
+
+impl SuccessRule {
+    /// Whether `episode` succeeded; None where the rule and the task define no success.
+    pub fn judge(self, episode: &Episode) -> Option<bool> {
+        match self {
+            Self::Task => episode.reached,
+            Self::Terminated => Some(episode.terminated),
+            Self::None => None,
+        }
+    }
+
+    /// The successes among `episodes`: (k, n), or None where none is defined.
+    pub fn count(self, episodes: &[Episode]) -> Option<(usize, usize)> {
+        let judged: Vec<Option<bool>> = episodes.iter().map(|e| self.judge(e)).collect();
+        judged.iter().any(Option::is_some).then(|| {
+            let k = judged.iter().filter(|s| **s == Some(true)).count();
+            (k, episodes.len())
+        })
+    }
 }
 
 /// Runs one episode from `reset(seed)` to its end, acting with `act`.
@@ -54,6 +89,9 @@ pub fn run_episode_with<E: From<EnvError>>(
         episode.moved = env.x_position() - x_start;
         let components = (episode.length * env.spec().act_dim) as f64;
         episode.action_rms = (squared_action / components).sqrt();
+        if let Some(reached) = step.info.success {
+            episode.reached = Some(reached || episode.reached == Some(true));
+        }
         after_step(&*env, &episode)?;
         if step.done() {
             return Ok(episode);
@@ -69,6 +107,19 @@ pub struct Evaluation {
     pub dense_return: f64,
     pub moved: f64,
     pub action_rms: f64,
+    /// The share of episodes that reached the goal, where the success rule defines one.
+    pub success: Option<f64>,
+}
+
+/// How long an evaluation plays and how it acts and judges: whole episodes until at
+/// least `min_steps` steps and `min_episodes` episodes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EvaluationPlan {
+    pub min_steps: usize,
+    pub min_episodes: usize,
+    /// Clip the mean action to the action space first.
+    pub clip_actions: bool,
+    pub success: SuccessRule,
 }
 
 /// The reset seed of evaluation episode `episode` of a run with `seed`: the same at every
@@ -77,15 +128,13 @@ pub fn evaluation_seed(seed: u64, episode: usize) -> u64 {
     1_000_000 + seed * 1000 + episode as u64
 }
 
-/// The mean action of `policy` over whole episodes of at least `min_steps` steps in all,
-/// episode i from `reset(reset_seed(i))` (e.g. the fixed initial states of
-/// [`evaluation_seed`]).
+/// The mean action of `policy` over whole episodes as `plan` says, episode i from
+/// `reset(reset_seed(i))` (e.g. the fixed initial states of [`evaluation_seed`]).
 pub fn evaluate(
     env: &mut dyn Env,
     policy: &ActingPolicy,
     mut reset_seed: impl FnMut(usize) -> u64,
-    min_steps: usize,
-    clip_actions: bool,
+    plan: EvaluationPlan,
 ) -> Result<Evaluation, EnvError> {
     let (mut steps, mut episodes) = (0, Vec::new());
     let (low, high) = (
@@ -94,12 +143,12 @@ pub fn evaluate(
     );
     let act = |obs: &[f64]| {
         let mut action = policy.mean(obs);
-        if clip_actions {
+        if plan.clip_actions {
             clip_to_range(&mut action, &low, &high);
         }
         action
     };
-    while steps < min_steps {
+    while steps < plan.min_steps || episodes.len() < plan.min_episodes {
         let episode = run_episode(env, reset_seed(episodes.len()), act)?;
         steps += episode.length;
         episodes.push(episode);
@@ -112,5 +161,9 @@ pub fn evaluate(
         dense_return: mean(|e| e.dense_return),
         moved: mean(|e| e.moved),
         action_rms: mean(|e| e.action_rms),
+        success: plan
+            .success
+            .count(&episodes)
+            .map(|(k, n)| k as f64 / n as f64),
     })
 }

@@ -31,6 +31,10 @@ pub struct IterationMetrics {
     pub eval_moved: f64,
     #[serde(default = "nan")]
     pub eval_action_rms: f64,
+    /// The share of evaluation episodes that reached the goal, where the run's success
+    /// rule defines one (`success`); NaN where it does not, and in older files.
+    #[serde(default = "nan")]
+    pub eval_success: f64,
     /// The improvement step: mean KL(π_k ‖ π_{k+½}), step length ‖Δθ‖, why it stopped,
     /// epochs (first-order kinds), β (`ppo-penalty`).
     pub kl: f64,

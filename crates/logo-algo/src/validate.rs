@@ -5,6 +5,8 @@
 pub const MAX_SAMPLES_PER_ITER: usize = 10_000_000;
 /// The most env copies or worker threads.
 pub const MAX_ENVS: usize = 4096;
+/// Evaluation episodes per iteration: each is played whole, every iteration.
+pub const MAX_EVAL_EPISODES: usize = 10_000;
 /// The widest hidden layer, and the most hidden layers, of any network.
 pub const MAX_WIDTH: usize = 65_536;
 pub const MAX_LAYERS: usize = 64;

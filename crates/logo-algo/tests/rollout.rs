@@ -103,14 +103,22 @@ fn batches_do_not_depend_on_the_number_of_threads() {
 /// clipped evaluation sends actions within [-1, 1] and pays less control cost.
 #[test]
 fn evaluation_clips_the_mean_action_when_asked() {
-    use logo_algo::episode::evaluate;
+    use logo_algo::episode::{EvaluationPlan, SuccessRule, evaluate};
     use logo_nn::kernels::HostMlp;
     let dims = vec![11, 3];
     let params = vec![5.0; logo_nn::mlp::num_params(&dims)];
     let policy = logo_nn::ActingPolicy::new(HostMlp::new(dims, params), vec![0.0; 3]);
     let factory = EnvFactory::new("Hopper-v4", &EnvOptions::default()).unwrap();
     let mut env = factory.build().unwrap();
-    let mut run = |clip| evaluate(env.as_mut(), &policy, |k| k as u64, 50, clip).unwrap();
+    let mut run = |clip_actions| {
+        let plan = EvaluationPlan {
+            min_steps: 50,
+            min_episodes: 1,
+            clip_actions,
+            success: SuccessRule::Task,
+        };
+        evaluate(env.as_mut(), &policy, |k| k as u64, plan).unwrap()
+    };
     let (sent, clipped) = (run(false), run(true));
     assert!(sent.action_rms > 1.0, "{}", sent.action_rms);
     assert!(clipped.action_rms <= 1.0, "{}", clipped.action_rms);

@@ -15,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::video::{Video, VideoArgs};
 use logo_algo::EngineSpan;
-use logo_algo::episode::{Episode, run_episode_with};
+use logo_algo::episode::{Episode, SuccessRule, run_episode_with};
 use logo_engine::{EngineArgs, WithEngine};
 use logo_stats::mean_std;
 
@@ -98,6 +98,17 @@ fn evaluated_env(meta: &CheckpointMeta, path: &Path) -> Result<String> {
         .with_context(|| format!("{}: metadata config eval_env", path.display()))
 }
 
+/// When an episode of the run reached its goal, as its checkpoint's config says (older
+/// checkpoints have no `success`: the task's own).
+fn success_rule(meta: &CheckpointMeta, path: &Path) -> Result<SuccessRule> {
+    let rule = &meta.extra["config"]["success"];
+    if rule.is_null() {
+        return Ok(SuccessRule::default());
+    }
+    serde_json::from_value(rule.clone())
+        .with_context(|| format!("{}: metadata config success", path.display()))
+}
+
 /// The policy stored in a checkpoint, and the checkpoint's metadata.
 pub fn load_policy(path: &Path) -> Result<(GaussianPolicy<Cpu>, CheckpointMeta)> {
     let ckpt = Checkpoint::load(path)?;
@@ -161,7 +172,8 @@ fn print_json(
     // At least the 20 episodes of a run's eval.json (--episodes may ask for more).
     let episodes = args.episodes.max(crate::final_eval::EPISODES);
     let env = evaluated_env(meta, &args.checkpoint)?;
-    let mut report = crate::final_eval::report(&env, acting, meta.seed, episodes)?;
+    let success = success_rule(meta, &args.checkpoint)?;
+    let mut report = crate::final_eval::report(&env, acting, meta.seed, episodes, success)?;
     report["checkpoint"] = args.checkpoint.display().to_string().into();
     report["iteration"] = meta.iteration.into();
     report["env"] = env.into();

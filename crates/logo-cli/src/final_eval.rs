@@ -11,7 +11,7 @@ use std::io::Write as _;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use logo_algo::episode::{Episode, run_episode};
+use logo_algo::episode::{Episode, SuccessRule, run_episode};
 use logo_envs::{EnvFactory, EnvOptions, clip_to_range};
 use logo_nn::ActingPolicy;
 use logo_stats::mean;
@@ -61,19 +61,28 @@ pub fn play(
         .collect()
 }
 
-/// Means over the episodes, and the success rate: the share of episodes whose own return
-/// is not zero (on a sparse task, that earned any sparse reward).
-pub fn summary(episodes: &[Episode]) -> Value {
+/// Means over the episodes, and how many reached the goal by the run's success rule:
+/// `"reached": [k, n]`, or null where the rule and the task define no success (a return
+/// is not a success: a failed run on a task with an action cost still has one).
+pub fn summary(episodes: &[Episode], success: SuccessRule) -> Value {
     let of = |f: fn(&Episode) -> f64| mean(&episodes.iter().map(f).collect::<Vec<_>>());
-    let successes = episodes.iter().filter(|e| e.return_ != 0.0).count();
+    let reached = success.count(episodes);
     json!({
         "return": of(|e| e.return_),
         "dense_return": of(|e| e.dense_return),
         "length": of(|e| e.length as f64),
         "moved": of(|e| e.moved),
         "action_rms": of(|e| e.action_rms),
-        "success_rate": successes as f64 / episodes.len() as f64,
+        "reached": reached.map(|(k, n)| [k, n]),
+        "success_rate": reached.map(|(k, n)| k as f64 / n as f64),
     })
+}
+
+/// "reached the goal in k of n episodes", or nothing where no success is defined.
+pub fn reached_line(summary: &Value) -> Option<String> {
+    let pair = summary["reached"].as_array()?;
+    let (k, n) = (pair.first()?.as_u64()?, pair.get(1)?.as_u64()?);
+    Some(format!("reached the goal in {k} of {n} episodes"))
 }
 
 fn episode_json(e: &Episode) -> Value {
@@ -84,11 +93,18 @@ fn episode_json(e: &Episode) -> Value {
         "terminated": e.terminated,
         "moved": e.moved,
         "action_rms": e.action_rms,
+        "reached": e.reached,
     })
 }
 
 /// One policy's report: as sent and clipped, each a summary and its episodes.
-pub fn report(env_id: &str, policy: &ActingPolicy, seed: u64, episodes: usize) -> Result<Value> {
+pub fn report(
+    env_id: &str,
+    policy: &ActingPolicy,
+    seed: u64,
+    episodes: usize,
+    success: SuccessRule,
+) -> Result<Value> {
     let mut out = serde_json::Map::new();
     for (name, acting) in [
         ("mean_action", Acting::Mean),
@@ -98,7 +114,7 @@ pub fn report(env_id: &str, policy: &ActingPolicy, seed: u64, episodes: usize) -
         out.insert(
             name.into(),
             json!({
-                "summary": summary(&played),
+                "summary": summary(&played, success),
                 "episodes": played.iter().map(episode_json).collect::<Vec<_>>(),
             }),
         );
@@ -154,18 +170,49 @@ mod tests {
     use super::*;
 
     #[test]
-    fn success_is_any_reward_and_means_are_per_episode() {
-        let e = |r: f64, len: usize| Episode {
+    fn success_is_the_rules_and_means_are_per_episode() {
+        let e = |r: f64, len: usize, reached: Option<bool>, terminated: bool| Episode {
             return_: r,
             dense_return: 2.0 * r,
             length: len,
+            reached,
+            terminated,
             ..Episode::default()
         };
-        let s = summary(&[e(0.0, 10), e(3.0, 20), e(1.0, 30), e(0.0, 40)]);
+        let episodes = [
+            e(0.0, 10, Some(false), true),
+            e(3.0, 20, Some(true), false),
+            e(1.0, 30, Some(true), false),
+            e(-5.0, 40, Some(false), false),
+        ];
+        let s = summary(&episodes, SuccessRule::Task);
+        assert_eq!(s["reached"], json!([2, 4]));
         assert_eq!(s["success_rate"], 0.5);
-        assert_eq!(s["return"], 1.0);
-        assert_eq!(s["dense_return"], 2.0);
+        assert_eq!(s["return"], -0.25);
         assert_eq!(s["length"], 25.0);
+        assert_eq!(
+            reached_line(&s).as_deref(),
+            Some("reached the goal in 2 of 4 episodes")
+        );
+        let s = summary(&episodes, SuccessRule::Terminated);
+        assert_eq!(s["reached"], json!([1, 4]));
+        // A task without a goal, or a rule of none, reports no success: a non-zero return
+        // is not one.
+        let goalless: Vec<Episode> = episodes
+            .iter()
+            .map(|x| Episode {
+                reached: None,
+                ..x.clone()
+            })
+            .collect();
+        for (episodes, rule) in [
+            (&goalless[..], SuccessRule::Task),
+            (&episodes[..], SuccessRule::None),
+        ] {
+            let s = summary(episodes, rule);
+            assert!(s["reached"].is_null() && s["success_rate"].is_null(), "{s}");
+            assert_eq!(reached_line(&s), None);
+        }
     }
 
     #[test]

@@ -398,7 +398,7 @@ fn progress_line(m: &IterationMetrics, config: &TrainConfig, per_iter: f64) -> S
     )
 }
 
-/// `eval.json`: the final and the best policy (the first to reach the highest evaluation
+/// `eval.json`: the final and the best policy (the latest to reach the highest evaluation
 /// of the trained task's own return, kept by the trainer as best.safetensors) over fresh
 /// initial states of the trained task, on the run's engine (see `final_eval`).
 fn end_of_run_evaluation<E: Engine>(
@@ -416,24 +416,24 @@ fn end_of_run_evaluation<E: Engine>(
         "final",
         CHECKPOINT,
         trainer.iteration() as u64,
-        final_eval::report(env, &acting, seed, episodes)?,
+        final_eval::report(env, &acting, seed, episodes, config.success)?,
     )];
     let best = out.join(BEST);
     if best.is_file() {
         let (module, meta) = crate::eval::load_policy(&best)?;
         let acting = Policy::from_module(engine, &module).acting(engine);
-        let report = final_eval::report(env, &acting, seed, episodes)?;
+        let report = final_eval::report(env, &acting, seed, episodes, config.success)?;
         policies.push(("best", BEST, meta.iteration, report));
     }
     final_eval::write(out, env, seed, episodes, &policies)?;
     for (name, _, iteration, report) in &policies {
         let s = &report["mean_action"]["summary"];
+        let reached = final_eval::reached_line(s).map_or(String::new(), |line| format!(", {line}"));
         console.say(&format!(
             "{name} policy (iteration {iteration}) over {episodes} fresh episodes: return {:.1}, \
-             dense return {:.1}, success {:.0}%",
+             dense return {:.1}{reached}",
             s["return"].as_f64().unwrap_or(f64::NAN),
             s["dense_return"].as_f64().unwrap_or(f64::NAN),
-            100.0 * s["success_rate"].as_f64().unwrap_or(f64::NAN)
         ));
     }
     console.say(&format!("evaluation: {}", out.join("eval.json").display()));

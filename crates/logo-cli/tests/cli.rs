@@ -247,7 +247,7 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
 }
 
 /// The best policy and the end-of-run evaluation: best.safetensors is the checkpoint of
-/// the iteration whose evaluation of the task's own return first reached its highest
+/// the latest iteration whose evaluation of the task's own return reached its highest
 /// value; eval.json evaluates it and the final policy over 20 fresh episodes, as `logo
 /// eval --json` does; a run stopped and resumed ends with the same files' numbers.
 #[test]
@@ -276,9 +276,9 @@ fn a_run_keeps_its_best_policy_and_ends_with_eval_json() {
         .map(|l| l.split(',').nth(column).unwrap().parse().unwrap())
         .collect();
     let top = returns.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let first_top = returns.iter().position(|&r| r == top).unwrap() + 1;
+    let last_top = returns.iter().rposition(|&r| r == top).unwrap() + 1;
     let best = logo_nn::Checkpoint::load(&whole.join("best.safetensors")).unwrap();
-    assert_eq!(best.meta.iteration, first_top as u64, "{returns:?}");
+    assert_eq!(best.meta.iteration, last_top as u64, "{returns:?}");
 
     let eval: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(whole.join("eval.json")).unwrap()).unwrap();
@@ -292,7 +292,7 @@ fn a_run_keeps_its_best_policy_and_ends_with_eval_json() {
             assert!(episodes[0]["dense_return"].as_f64().unwrap().is_finite());
         }
     }
-    assert_eq!(eval["policies"]["best"]["iteration"], first_top);
+    assert_eq!(eval["policies"]["best"]["iteration"], last_top);
     let json = cli().succeed(&[
         "eval",
         "--checkpoint",
@@ -328,6 +328,45 @@ fn a_run_keeps_its_best_policy_and_ends_with_eval_json() {
         v["policies"].clone()
     };
     assert_eq!(policies(&parts), policies(&whole));
+}
+
+/// A run whose task return never leaves 0 (a sparse goal out of reach) keeps its latest
+/// policy as the best, not iteration 1's: ties go to the policy that trained longer.
+#[test]
+fn a_run_that_never_earns_keeps_its_latest_policy_as_best() {
+    let dir = scratch("never-earns");
+    let trpo = TINY
+        .split("[guidance]")
+        .next()
+        .unwrap()
+        .replace("iterations = 2", "iterations = 3");
+    let config = dir.join("unreachable.toml");
+    let text = env_table(
+        &trpo,
+        "Hopper-v4",
+        "{ kind = \"distance\", threshold = 1000 }",
+    );
+    std::fs::write(&config, text).unwrap();
+    let out = dir.join("run");
+    cli().succeed(&[
+        "train",
+        "--config",
+        config.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--no-tensorboard",
+    ]);
+    let csv = std::fs::read_to_string(out.join("metrics.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let column = header.iter().position(|h| *h == "eval_return").unwrap();
+    let returns: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(column).unwrap())
+        .collect();
+    assert_eq!(returns, ["0.0"; 3], "the goal was reached");
+    let best = logo_nn::Checkpoint::load(&out.join("best.safetensors")).unwrap();
+    assert_eq!(best.meta.iteration, 3);
 }
 
 #[test]

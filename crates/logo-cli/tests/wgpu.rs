@@ -117,7 +117,7 @@ fn iteration<E: Engine>(engine: &E) -> Iteration {
         ..DiscriminatorConfig::new(obs_dim, act_dim)
     }
     .init::<Cpu>(&device);
-    let mut trainer = DiscriminatorTrainer::new(engine, &disc, &demos, 3e-4);
+    let mut trainer = DiscriminatorTrainer::new(engine, &disc, &demos, 3e-4, 1);
     let inputs = trainer.inputs(engine, &obs, &actions);
     let discriminator_losses = (0..3).map(|_| trainer.update(engine, &inputs)).collect();
     Iteration {

@@ -39,6 +39,10 @@ pub struct StepInfo {
     /// Distance to the target in the plane, for the tasks with one (Reacher: fingertip to
     /// target; Pusher: object to goal): what the goal kind pays on.
     pub goal_distance: Option<f64>,
+    /// Whether the task's goal is reached after this step, where the task defines one:
+    /// a sparse kind's rule (past the distance threshold, within the goal radius), or a
+    /// Python env's `info["is_success"]` / `info["success"]`. None: the task says nothing.
+    pub success: Option<bool>,
 }
 
 /// The result of one step. The observation goes into the caller's buffer.

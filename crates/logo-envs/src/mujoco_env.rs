@@ -363,6 +363,7 @@ impl<T: Task> Env for MujocoEnv<T> {
                 dense_reward: reward,
                 x_position: self.data.qpos()[0],
                 goal_distance: self.task.goal_distance(&self.data),
+                success: None,
             },
         })
     }

@@ -196,15 +196,19 @@ impl<E: Env> Env for SparseReward<E> {
 
     fn step(&mut self, action: &[f64], obs: &mut [f64]) -> Result<Step, EnvError> {
         let mut step = self.inner.step(action, obs)?;
-        step.reward = match self.rule {
+        // Where the rule has a goal (a distance, a radius), being past it is success.
+        let reached = match self.rule {
             SparseRule::Distance { threshold } => {
-                if step.info.x_position - self.x_init > threshold {
-                    1.0
-                } else {
-                    0.0
-                }
+                Some(step.info.x_position - self.x_init > threshold)
             }
-            SparseRule::Delayed => {
+            SparseRule::Delayed => None,
+            // The registry builds this rule only over a task with a goal distance.
+            SparseRule::Goal { radius } => {
+                Some(step.info.goal_distance.is_some_and(|d| d < radius))
+            }
+        };
+        step.reward = match (self.rule, reached) {
+            (SparseRule::Delayed, _) => {
                 self.episode_dense_return += step.info.dense_reward;
                 if step.done() {
                     self.episode_dense_return
@@ -212,12 +216,10 @@ impl<E: Env> Env for SparseReward<E> {
                     0.0
                 }
             }
-            // The registry builds this rule only over a task with a goal distance.
-            SparseRule::Goal { radius } => match step.info.goal_distance {
-                Some(distance) if distance < radius => 1.0,
-                _ => 0.0,
-            },
+            (_, Some(true)) => 1.0,
+            (_, _) => 0.0,
         };
+        step.info.success = reached.or(step.info.success);
         Ok(step)
     }
 

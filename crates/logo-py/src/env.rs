@@ -130,6 +130,7 @@ impl RustEnv {
         f64,
         f64,
         Option<f64>,
+        Option<bool>,
     )> {
         let action = action
             .as_slice()
@@ -143,6 +144,7 @@ impl RustEnv {
             step.info.dense_reward,
             step.info.x_position,
             step.info.goal_distance,
+            step.info.success,
         ))
     }
 

@@ -114,13 +114,14 @@ impl Env for PyEnv {
         let result = Python::attach(|py| -> PyResult<Step> {
             let action = action.to_vec().into_pyarray(py);
             let out = self.adapter.call_method1(py, "step", (action,))?;
-            let (array, reward, terminated, truncated, dense_reward, x): (
+            let (array, reward, terminated, truncated, dense_reward, x, success): (
                 Bound<'_, PyAny>,
                 f64,
                 bool,
                 bool,
                 f64,
                 f64,
+                Option<bool>,
             ) = out.extract(py)?;
             copy_into(&array, obs)?;
             self.x = x;
@@ -132,6 +133,7 @@ impl Env for PyEnv {
                     dense_reward,
                     x_position: x,
                     goal_distance: None,
+                    success,
                 },
             })
         });

@@ -152,7 +152,13 @@ fn guidance<E: Engine>(
             &load_reference_policy::<Cpu>(path, &Default::default())?,
         )),
         (None, Some(demos), Some(module)) => {
-            let mut d = DiscriminatorTrainer::new(engine, module, demos, g.discriminator_lr);
+            let mut d = DiscriminatorTrainer::new(
+                engine,
+                module,
+                demos,
+                g.discriminator_lr,
+                g.discriminator_steps,
+            );
             d.optim = learned.discriminator_adam.clone().unwrap_or_default();
             GuidanceSignal::Discriminator(d)
         }

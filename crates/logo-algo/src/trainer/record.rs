@@ -68,6 +68,7 @@ impl<E: Engine> Trainer<E> {
             eval_return: eval(|e| e.return_),
             eval_moved: eval(|e| e.moved),
             eval_action_rms: eval(|e| e.action_rms),
+            eval_success: eval(|e| e.success.unwrap_or(f64::NAN)),
             delta_k: self
                 .learner
                 .guidance

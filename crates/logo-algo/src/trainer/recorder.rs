@@ -28,9 +28,11 @@ pub(super) struct Recorder {
 
 /// The checkpoints an iteration's row makes due.
 pub(super) struct Due {
-    /// The best policy so far, with its return: the first to reach the highest
+    /// The best policy so far, with its return: the latest to reach the highest
     /// evaluation of the trained task's own return (sparse on a sparse task; the dense
-    /// one is for reporting).
+    /// one is for reporting, and a user with a sparse task has none). Ties go to the
+    /// later policy, which has trained longer: a run that never earns anything keeps
+    /// its latest policy, not iteration 1's.
     pub(super) best: Option<f64>,
     pub(super) checkpoint: bool,
 }
@@ -90,7 +92,7 @@ impl Recorder {
             events.append(row)?;
         }
         let best =
-            row.eval_return.is_finite() && self.best_return.is_none_or(|b| row.eval_return > b);
+            row.eval_return.is_finite() && self.best_return.is_none_or(|b| row.eval_return >= b);
         Ok(Due {
             best: best.then_some(row.eval_return),
             checkpoint: iterations.is_multiple_of(checkpoint_every) || done,

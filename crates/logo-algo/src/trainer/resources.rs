@@ -14,7 +14,7 @@ use rand_chacha::ChaCha8Rng;
 use super::learner_state::{Networks, SamplerState};
 use super::schedule::Schedule;
 use crate::config::{EvalInitialStates, TrainConfig};
-use crate::episode::{Evaluation, evaluate, evaluation_seed};
+use crate::episode::{Evaluation, EvaluationPlan, evaluate, evaluation_seed};
 use crate::run_dir::TrainError;
 use crate::sampler::{Batch, Sampler};
 use crate::streams;
@@ -144,10 +144,10 @@ impl Collector {
 pub(super) struct Evaluator {
     pub(super) env: Box<dyn Env>,
     pub(super) seed: u64,
-    pub(super) min_steps: usize,
+    /// How long it plays (`eval_steps`, `eval_episodes`), how it acts (`clip_actions`:
+    /// clipped as the sampled actions are) and judges (`success`).
+    pub(super) plan: EvaluationPlan,
     pub(super) initial_states: EvalInitialStates,
-    /// `clip_actions`: the evaluated mean action is clipped as the sampled ones are.
-    pub(super) clip_actions: bool,
 }
 
 impl Evaluator {
@@ -163,9 +163,13 @@ impl Evaluator {
         Ok(Self {
             env,
             seed: config.seed,
-            min_steps: config.eval_steps,
+            plan: EvaluationPlan {
+                min_steps: config.eval_steps,
+                min_episodes: config.eval_episodes,
+                clip_actions: config.clip_actions,
+                success: config.success,
+            },
             initial_states: config.eval_initial_states,
-            clip_actions: config.clip_actions,
         })
     }
 
@@ -187,12 +191,7 @@ impl Evaluator {
         policy: &ActingPolicy,
         k: usize,
     ) -> Result<Evaluation, TrainError> {
-        let (env, seed, min_steps, clip) = (
-            self.env.as_mut(),
-            self.seed,
-            self.min_steps,
-            self.clip_actions,
-        );
+        let (env, seed, plan) = (self.env.as_mut(), self.seed, self.plan);
         let mut fresh = streams::evaluation(seed, k);
         let initial_states = self.initial_states;
         let reset_seed = move |episode| match initial_states {
@@ -200,7 +199,7 @@ impl Evaluator {
             EvalInitialStates::Fresh => fresh.next_u64(),
         };
         Ok(in_phase("evaluation", || {
-            evaluate(env, policy, reset_seed, min_steps, clip)
+            evaluate(env, policy, reset_seed, plan)
         })?)
     }
 }

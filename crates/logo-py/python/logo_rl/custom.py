@@ -52,7 +52,14 @@ class _Adapter:
         for key, value in (("dense_reward", dense), ("x_position", x)):
             if not np.isfinite(value):
                 raise ValueError(f"{self.name}: step returned info[{key!r}] = {value}")
-        return self._obs(obs, "step"), reward, bool(terminated), bool(truncated), dense, x
+        success = info.get("is_success", info.get("success"))
+        if success is not None:
+            if np.size(success) != 1:
+                raise ValueError(
+                    f"{self.name}: step returned info['is_success'] = {success!r}, expected a bool"
+                )
+            success = bool(np.asarray(success).reshape(-1)[0])
+        return self._obs(obs, "step"), reward, bool(terminated), bool(truncated), dense, x, success
 
     def close(self) -> None:
         self.env.close()

@@ -93,10 +93,12 @@ class LogoEnv(gym.Env):
             raise ValueError(
                 f"action of {action.size} values; {self.env_id} takes {self._env.act_dim}"
             )
-        obs, reward, terminated, truncated, dense, x, goal = self._env.step(action)
+        obs, reward, terminated, truncated, dense, x, goal, success = self._env.step(action)
         info = {"dense_reward": dense, "x_position": x}
         if goal is not None:
             info["goal_distance"] = self.last_goal_distance = goal
+        if success is not None:
+            info["is_success"] = success
         return obs, reward, terminated, truncated, info
 
     def set_state(self, qpos, qvel) -> None:

@@ -49,7 +49,7 @@ def record(
             observations, actions, rewards, terminations, truncations = [obs], [], [], [], []
             while True:
                 action = np.asarray(act(obs), dtype=np.float64).reshape(-1)
-                obs, reward, terminated, truncated, _, _ = adapter.step(action)
+                obs, reward, terminated, truncated, _, _, _ = adapter.step(action)
                 observations.append(obs)
                 actions.append(action)
                 rewards.append(reward)

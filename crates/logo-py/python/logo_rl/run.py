@@ -34,7 +34,7 @@ class Run:
     checkpoint = property(lambda self: self.path / "checkpoint.safetensors")
     best = property(
         lambda self: self.path / "best.safetensors",
-        doc="The policy of the iteration whose evaluation first reached the highest return.",
+        doc="The policy of the latest iteration whose evaluation reached the highest return.",
     )
     config_path = property(lambda self: self.path / "config.toml")
 

@@ -126,9 +126,11 @@ class SparseReward(gym.Wrapper):
         info = {**info, "dense_reward": float(dense)}
         if self.kind == "distance":
             moved = self._position(self.env) - self._start
-            reward = 1.0 if moved > self.threshold else 0.0
+            info["is_success"] = bool(moved > self.threshold)
+            reward = 1.0 if info["is_success"] else 0.0
         elif self.kind == "goal":
-            reward = 1.0 if self._goal_distance(self.env) < self.radius else 0.0
+            info["is_success"] = bool(self._goal_distance(self.env) < self.radius)
+            reward = 1.0 if info["is_success"] else 0.0
         else:
             self._episode_return += float(dense)
             reward = self._episode_return if (terminated or truncated) else 0.0
