@@ -50,6 +50,12 @@ pub struct TrainConfig {
     pub max_kl: f64,
     #[serde(default = "default_hidden")]
     pub policy_hidden: Vec<usize>,
+    /// Standardise observations by running statistics of every observation collected
+    /// (`logo_nn::observation_norm`), kept with the policy in checkpoints and applied
+    /// wherever it acts (`logo eval`, `logo_rl.load(...).predict`) and to the
+    /// demonstrations the discriminator sees. Off by default, as in the reference.
+    #[serde(default)]
+    pub normalise_observations: bool,
     #[serde(default)]
     pub log_std_init: f64,
     /// The env reward's critic (`[critic]`).
@@ -381,6 +387,24 @@ impl TrainConfig {
         }
         if let Some(g) = &self.guidance {
             g.validate()?;
+        }
+        // A policy file (a reference `.pt`) was trained on raw observations.
+        let behaviour = self
+            .guidance
+            .as_ref()
+            .and_then(|g| g.behaviour_policy.as_ref());
+        if self.normalise_observations {
+            for (key, set) in [
+                ("init_policy", self.init_policy.is_some()),
+                ("guidance.behaviour_policy", behaviour.is_some()),
+            ] {
+                if set {
+                    return Err(format!(
+                        "normalise_observations: {key} is a policy of raw observations; \
+                         set one or the other"
+                    ));
+                }
+            }
         }
         Ok(())
     }

@@ -4,7 +4,7 @@ use burn::tensor::Tensor;
 use logo_data::Demonstrations;
 use logo_nn::flat::{params_to_vec, vec_to_params};
 use logo_nn::loss::{binary_cross_entropy, guidance_reward, value_and_grad};
-use logo_nn::{Discriminator, Engine};
+use logo_nn::{Discriminator, Engine, ObservationStats};
 
 use crate::adam::Adam;
 
@@ -30,8 +30,12 @@ pub struct DiscriminatorTrainer<E: Engine> {
     lr: f64,
     /// Full-batch Adam steps per iteration (the reference takes 1).
     steps: usize,
-    /// The demonstrations as input rows, uploaded once.
+    /// The demonstrations as input rows, uploaded once (again when the observation
+    /// statistics change).
     demo_rows: E::Rows,
+    /// The demonstrations as recorded: `[obs ‖ action]` is made from them anew when the
+    /// observations are standardised.
+    demos: Demonstrations,
 }
 
 impl<E: Engine> DiscriminatorTrainer<E> {
@@ -47,6 +51,7 @@ impl<E: Engine> DiscriminatorTrainer<E> {
         Self {
             net: engine.net(&dims, &params_to_vec(&module.net)),
             demo_rows: engine.rows(&inputs, dims[0]),
+            demos: demos.clone(),
             dims,
             observe: module.observe,
             act_dim: demos.act_dim,
@@ -64,6 +69,14 @@ impl<E: Engine> DiscriminatorTrainer<E> {
     ) -> Discriminator<B> {
         let net = vec_to_params(template.net, &engine.params(&self.net));
         Discriminator { net, ..template }
+    }
+
+    /// The demonstrations' observations seen through `stats` from now on.
+    pub fn standardise_demos(&mut self, engine: &E, stats: &ObservationStats) {
+        let mut obs = self.demos.obs.clone();
+        stats.normalise(&mut obs);
+        let inputs = censored_inputs(&obs, &self.demos.actions, self.act_dim, self.observe);
+        self.demo_rows = engine.rows(&inputs, self.dims[0]);
     }
 
     /// The batch's pairs as this discriminator's input rows, uploaded once per iteration

@@ -4,7 +4,7 @@
 //! (`delta_schedule.rs`) and the discriminator (`discriminator.rs`).
 
 use burn::tensor::Tensor;
-use logo_nn::{Engine, Policy};
+use logo_nn::{Engine, ObservationStats, Policy};
 use rand_chacha::ChaCha8Rng;
 
 use crate::delta_schedule::DeltaSchedule;
@@ -70,6 +70,14 @@ impl<E: Engine> Guidance<E> {
             &mut self.state,
             rng,
         )
+    }
+
+    /// From now on the discriminator sees the demonstrations' observations through
+    /// `stats`, as the batch's are (`normalise_observations`).
+    pub fn observe_through(&mut self, engine: &E, stats: &ObservationStats) {
+        if let GuidanceSignal::Discriminator(d) = &mut self.signal {
+            d.standardise_demos(engine, stats);
+        }
     }
 
     /// One discriminator update on the batch's pairs (policy 1, demonstrations 0): its

@@ -298,7 +298,8 @@ fn recording_metadata(
 
 fn record(args: &RecordArgs) -> Result<()> {
     anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
-    let (policy, meta) = load_policy(&args.policy)?;
+    let policy = load_policy(&args.policy)?;
+    let meta = &policy.meta;
     // A sparse id records its own rewards; a dense one the dense rewards, with the sparse
     // returns of LOGO's rule for the task beside them.
     let sparse_requested = logo_envs::dense_id(&args.env) != args.env;
@@ -321,7 +322,7 @@ fn record(args: &RecordArgs) -> Result<()> {
         spec.obs_dim,
         spec.act_dim
     );
-    let acting = policy.acting();
+    let acting = policy.acting(&logo_nn::Kernels);
     let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
     let mut episodes = Vec::new();
     let (mut dense_returns, mut sparse_returns) = (Vec::new(), Vec::new());

@@ -7,7 +7,8 @@ use anyhow::{Context, Result};
 use clap::Args;
 use logo_envs::{Env, EnvConfig, EnvFactory, EnvOptions, clip_to_range};
 use logo_nn::{
-    ActingPolicy, Checkpoint, CheckpointMeta, Cpu, Engine, GaussianPolicy, Policy, PolicyConfig,
+    ActingPolicy, Checkpoint, CheckpointMeta, Cpu, Engine, GaussianPolicy, ObservationStats,
+    Policy, PolicyConfig,
 };
 
 use rand::SeedableRng;
@@ -74,13 +75,12 @@ pub struct EvalArgs {
 }
 
 /// The checkpoint's policy, converted onto the chosen engine and copied back for acting.
-struct OnEngine<'a>(&'a GaussianPolicy<Cpu>);
+struct OnEngine<'a>(&'a StoredPolicy);
 
 impl WithEngine for OnEngine<'_> {
     type Output = (ActingPolicy, String);
     fn run<E: Engine>(self, engine: E) -> Result<Self::Output> {
-        let policy = Policy::from_module(&engine, self.0);
-        Ok((policy.acting(&engine), engine.describe()))
+        Ok((self.0.acting(&engine), engine.describe()))
     }
 }
 
@@ -109,8 +109,27 @@ fn success_rule(meta: &CheckpointMeta, path: &Path) -> Result<SuccessRule> {
         .with_context(|| format!("{}: metadata config success", path.display()))
 }
 
-/// The policy stored in a checkpoint, and the checkpoint's metadata.
-pub fn load_policy(path: &Path) -> Result<(GaussianPolicy<Cpu>, CheckpointMeta)> {
+/// A checkpoint's policy as it acts: the module, the observation statistics it sees
+/// through (where its run standardised observations), and the checkpoint's metadata.
+pub struct StoredPolicy {
+    pub module: GaussianPolicy<Cpu>,
+    pub observation_norm: Option<ObservationStats>,
+    pub meta: CheckpointMeta,
+}
+
+impl StoredPolicy {
+    /// Its host copy for acting, by way of `engine` (which converts the parameters to
+    /// its float type, so that a float32 run acts as it trained).
+    pub fn acting<E: Engine>(&self, engine: &E) -> ActingPolicy {
+        Policy::from_module(engine, &self.module)
+            .acting(engine)
+            .with_observation_norm(self.observation_norm.clone())
+    }
+}
+
+/// The policy stored in a checkpoint, with its observation statistics and the
+/// checkpoint's metadata.
+pub fn load_policy(path: &Path) -> Result<StoredPolicy> {
     let ckpt = Checkpoint::load(path)?;
     let meta = &ckpt.meta;
     let hidden = meta
@@ -123,8 +142,24 @@ pub fn load_policy(path: &Path) -> Result<(GaussianPolicy<Cpu>, CheckpointMeta)>
         hidden: hidden.clone(),
         log_std_init: 0.0,
     };
-    let policy = ckpt.apply("policy", config.init::<Cpu>(&Default::default()))?;
-    Ok((policy, ckpt.meta))
+    let device = Default::default();
+    let module = ckpt.apply("policy", config.init::<Cpu>(&device))?;
+    let observation_norm = match ckpt.tensor("observation_norm.mean") {
+        None => None,
+        Some(_) => {
+            let shape = ObservationStats::new(meta.obs_dim).module::<Cpu>(&device);
+            let stats = ObservationStats::from_module(&ckpt.apply("observation_norm", shape)?);
+            stats
+                .check()
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+            Some(stats)
+        }
+    };
+    Ok(StoredPolicy {
+        module,
+        observation_norm,
+        meta: ckpt.meta,
+    })
 }
 
 pub fn run(args: &EvalArgs) -> Result<()> {
@@ -135,8 +170,9 @@ pub fn run(args: &EvalArgs) -> Result<()> {
             "--split-at must be a positive number of metres, got {metres}"
         );
     }
-    let (policy, meta) = load_policy(&args.checkpoint)?;
-    let history = logo_algo::engine_history(&meta)
+    let policy = load_policy(&args.checkpoint)?;
+    let meta = &policy.meta;
+    let history = logo_algo::engine_history(meta)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.checkpoint.display()))?;
     let last = history.last().map(|span| span.engine.as_str());
     let (engine_args, _) = args.engine.or_trained_on(last, EngineArgs::on_cpu);

@@ -9,7 +9,7 @@ use logo_algo::episode::evaluation_seed;
 use logo_algo::run_dir::{BEST, CHECKPOINT};
 use logo_algo::{IterationMetrics, Schedule, TrainConfig, Trainer};
 use logo_envs::{EnvFactory, EnvOptions};
-use logo_nn::{Checkpoint, Engine, Policy};
+use logo_nn::{Checkpoint, Engine};
 
 use crate::final_eval;
 use crate::video::{Frames, Video, VideoLook, record_episode};
@@ -411,7 +411,7 @@ fn end_of_run_evaluation<E: Engine>(
     let env_id = config.evaluated_env().env_id()?;
     let env = env_id.as_str();
     let (seed, episodes) = (config.seed, final_eval::EPISODES);
-    let acting = trainer.policy().acting(engine);
+    let acting = trainer.acting();
     let mut policies = vec![(
         "final",
         CHECKPOINT,
@@ -420,10 +420,10 @@ fn end_of_run_evaluation<E: Engine>(
     )];
     let best = out.join(BEST);
     if best.is_file() {
-        let (module, meta) = crate::eval::load_policy(&best)?;
-        let acting = Policy::from_module(engine, &module).acting(engine);
+        let stored = crate::eval::load_policy(&best)?;
+        let acting = stored.acting(engine);
         let report = final_eval::report(env, &acting, seed, episodes, config.success)?;
-        policies.push(("best", BEST, meta.iteration, report));
+        policies.push(("best", BEST, stored.meta.iteration, report));
     }
     final_eval::write(out, env, seed, episodes, &policies)?;
     for (name, _, iteration, report) in &policies {
@@ -459,7 +459,7 @@ fn record_iteration<E: Engine>(
         look: VideoLook::Fast,
     };
     let mut video = Video::start(&path, &factory, frames)?;
-    let acting = trainer.policy().acting(trainer.engine());
+    let acting = trainer.acting();
     let mut env = factory.build()?;
     let label = format!("iteration {iteration} | ");
     let seed = evaluation_seed(config.seed, 0);

@@ -96,6 +96,22 @@ fn config_errors_name_the_file_and_the_key() {
             TINY.replace("iterations = 3 }", "iterations = 3, epochs = 2 }"),
             "epochs",
         ),
+        // A policy file of raw observations cannot act through a run's statistics.
+        (
+            TINY.replace(
+                "num_envs = 4",
+                "num_envs = 4\nnormalise_observations = true\ninit_policy = \"demos.npy\"",
+            ),
+            "normalise_observations: init_policy is a policy of raw observations",
+        ),
+        (
+            TINY.replace("num_envs = 4", "num_envs = 4\neval_episodes = 0"),
+            "eval_episodes must be at least 1",
+        ),
+        (
+            TINY.replace("num_envs = 4", "num_envs = 4\nsuccess = \"always\""),
+            "unknown variant `always`, expected one of `task`, `terminated`, `none`",
+        ),
         (
             TINY.replace(
                 "warmup = 0",
@@ -328,6 +344,75 @@ fn a_run_keeps_its_best_policy_and_ends_with_eval_json() {
         v["policies"].clone()
     };
     assert_eq!(policies(&parts), policies(&whole));
+}
+
+/// `normalise_observations`: the statistics count every observation collected, travel
+/// with the checkpoint (a resumed run ends where an uninterrupted one does), and `logo
+/// eval` acts through them as the run's own end-of-run evaluation did.
+#[test]
+fn observation_statistics_round_trip_through_checkpoints_and_eval() {
+    let (dir, _) = tiny_run("obs-norm");
+    let config = dir.join("norm.toml");
+    let text = TINY.replace(
+        "iterations = 2",
+        "iterations = 3\nnormalise_observations = true",
+    );
+    std::fs::write(&config, text).unwrap();
+    let config = config.to_str().unwrap();
+    let (whole, parts) = (dir.join("whole"), dir.join("parts"));
+    let (whole_s, parts_s) = (whole.to_str().unwrap(), parts.to_str().unwrap());
+    cli().succeed(&[
+        "train",
+        "--config",
+        config,
+        "--out",
+        whole_s,
+        "--no-tensorboard",
+    ]);
+    cli().succeed(&[
+        "train",
+        "--config",
+        config,
+        "--out",
+        parts_s,
+        "--iterations",
+        "2",
+        "--no-tensorboard",
+    ]);
+    cli().succeed(&[
+        "train",
+        "--resume",
+        parts_s,
+        "--iterations",
+        "3",
+        "--no-tensorboard",
+    ]);
+    let ckpt = logo_nn::Checkpoint::load(&whole.join("checkpoint.safetensors")).unwrap();
+    let count = ckpt.tensor("observation_norm.count").unwrap().1[0];
+    assert_eq!(count, ckpt.meta.extra["samples"].as_f64().unwrap());
+    let var = ckpt.tensor("observation_norm.var").unwrap().1;
+    // (IDP's last three observations are always 0: their variance is 0.)
+    assert!(
+        var.iter().all(|v| *v >= 0.0) && var[..8].iter().all(|v| *v > 0.0 && *v != 1.0),
+        "{var:?}"
+    );
+    let again = logo_nn::Checkpoint::load(&parts.join("checkpoint.safetensors")).unwrap();
+    for name in ckpt.tensor_names() {
+        assert_eq!(ckpt.tensor(name), again.tensor(name), "{name}");
+    }
+    let json = cli().succeed(&[
+        "eval",
+        "--checkpoint",
+        whole.join("checkpoint.safetensors").to_str().unwrap(),
+        "--json",
+    ]);
+    let alone: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let eval: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(whole.join("eval.json")).unwrap()).unwrap();
+    assert_eq!(
+        alone["mean_action"],
+        eval["policies"]["final"]["mean_action"]
+    );
 }
 
 /// A run whose task return never leaves 0 (a sparse goal out of reach) keeps its latest

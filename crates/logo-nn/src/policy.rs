@@ -17,6 +17,7 @@ use crate::flat::{params_to_vec, to_f64, vec_to_params};
 use crate::kernels::HostMlp;
 use crate::loss::{gaussian_entropy, gaussian_log_prob};
 use crate::mlp::{Mlp, MlpConfig};
+use crate::observation_norm::ObservationStats;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PolicyConfig {
@@ -210,6 +211,9 @@ pub struct ActingPolicy {
     mean: HostMlp,
     log_std: Vec<f64>,
     std: Vec<f64>,
+    /// The statistics the run standardised observations with when it made this copy
+    /// (None: the networks see them as the env gives them).
+    observation_norm: Option<ObservationStats>,
 }
 
 impl ActingPolicy {
@@ -219,7 +223,27 @@ impl ActingPolicy {
             mean,
             std: log_std.iter().map(|l| l.exp()).collect(),
             log_std,
+            observation_norm: None,
         }
+    }
+
+    /// The same policy, seeing each observation through `norm` first.
+    pub fn with_observation_norm(self, norm: Option<ObservationStats>) -> Self {
+        if let Some(n) = &norm {
+            assert_eq!(
+                n.obs_dim(),
+                self.mean.dims[0],
+                "one statistic per observation"
+            );
+        }
+        Self {
+            observation_norm: norm,
+            ..self
+        }
+    }
+
+    pub fn observation_norm(&self) -> Option<&ObservationStats> {
+        self.observation_norm.as_ref()
     }
 
     /// The mean net's layer sizes and parameters (the Python package's weights).
@@ -234,7 +258,14 @@ impl ActingPolicy {
 
     /// μ(s) for every row of `obs` (`rows * obs_dim` values, row-major).
     pub fn mean(&self, obs: &[f64]) -> Vec<f64> {
-        self.mean.forward(obs)
+        match &self.observation_norm {
+            None => self.mean.forward(obs),
+            Some(norm) => {
+                let mut seen = obs.to_vec();
+                norm.normalise(&mut seen);
+                self.mean.forward(&seen)
+            }
+        }
     }
 
     /// a ~ π(·|s) for every row of `obs`, with the caller's generator (so a seed fixes the

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use logo_nn::{ActingPolicy, Kernels, Policy as EnginePolicy};
+use logo_nn::{ActingPolicy, Kernels};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods,
 };
@@ -37,8 +37,9 @@ pub struct Policy {
 impl Policy {
     #[new]
     fn new(path: PathBuf) -> PyResult<Self> {
-        let (module, meta) = logo_cli::eval::load_policy(&path).map_err(|e| logo_error(&e))?;
-        let acting = EnginePolicy::from_module(&Kernels, &module).acting(&Kernels);
+        let stored = logo_cli::eval::load_policy(&path).map_err(|e| logo_error(&e))?;
+        let acting = stored.acting(&Kernels);
+        let meta = stored.meta;
         Ok(Self {
             acting,
             path,
@@ -82,6 +83,22 @@ impl Policy {
         }
         let means = py.detach(|| self.acting.mean(&obs));
         means.into_pyarray(py).reshape([rows, self.act_dim])
+    }
+
+    /// The observation statistics the policy sees through, `(mean, var)`, or None where
+    /// its run did not standardise observations.
+    #[getter]
+    #[allow(clippy::type_complexity)]
+    fn observation_norm<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> Option<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        self.acting.observation_norm().map(|stats| {
+            (
+                stats.mean.clone().into_pyarray(py),
+                stats.var.clone().into_pyarray(py),
+            )
+        })
     }
 
     /// log σ, one per action.

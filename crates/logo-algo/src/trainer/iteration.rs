@@ -40,11 +40,12 @@ impl<E: Engine> Trainer<E> {
     pub(super) fn iterate(&mut self) -> Result<IterationMetrics, TrainError> {
         let k = self.learner.iteration;
         // 1. Collect (s, a, r) with π_k (the pipelined schedule did so during k − 1).
-        let collected = match self.next_batch.take() {
+        let mut collected = match self.next_batch.take() {
             Some(collected) => collected,
             None => self.collect()?,
         };
         let mut clock = Stopwatch::start();
+        self.standardise(&mut collected.batch);
         let batch = &collected.batch;
         let (obs, actions, logp_k) = in_phase("sampling", || self.upload(batch));
         let t_upload = clock.lap();
@@ -99,8 +100,27 @@ impl<E: Engine> Trainer<E> {
         let Resources {
             engine, collector, ..
         } = &mut self.resources;
-        let acting = self.learner.policy.acting(engine);
+        let acting = self.learner.acting(engine);
         collector.collect(&acting, self.config.samples_per_iter)
+    }
+
+    /// With `normalise_observations`: the batch's observations (and its truncated
+    /// episodes' final ones) as the networks see them, through the statistics π_k acted
+    /// with; the statistics then take in the batch's raw observations, for π_{k+1}. The
+    /// discriminator's demonstrations are seen through the same statistics as the batch.
+    fn standardise(&mut self, batch: &mut Batch) {
+        let Some(stats) = self.learner.observation_stats.as_mut() else {
+            return;
+        };
+        let acted_with = stats.clone();
+        stats.update(&batch.obs);
+        acted_with.normalise(&mut batch.obs);
+        for (_, last) in &mut batch.truncations {
+            acted_with.normalise(last);
+        }
+        if let Some(g) = self.learner.guidance.as_mut() {
+            g.observe_through(&self.resources.engine, &acted_with);
+        }
     }
 
     /// The batch's observations, actions and log π_k on the engine: uploaded once.
@@ -161,9 +181,10 @@ impl<E: Engine> Trainer<E> {
         let (engine, config) = (&resources.engine, &self.config);
         let guidance_returns = inputs.stream.map(|s| s.advantages.returns.as_slice());
         let samples = config.samples_per_iter;
+        let norm = learner.observation_stats.clone();
         let (steps, fits, (evaluation, t_evaluation), next) = resources.schedule.run(
             &mut learner.policy,
-            |policy| policy.acting(engine),
+            |policy| policy.acting(engine).with_observation_norm(norm.clone()),
             // 4-6.
             |policy| {
                 policy_steps(

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use logo_data::Demonstrations;
 use logo_nn::flops::in_phase;
-use logo_nn::{Cpu, Engine, Policy, load_reference_policy};
+use logo_nn::{ActingPolicy, Cpu, Engine, ObservationStats, Policy, load_reference_policy};
 
 use super::learner_state::{EngineSpan, GuidanceState, LearnerState, Networks, SamplerState};
 use crate::config::{GuidanceConfig, TrainConfig};
@@ -24,6 +24,9 @@ pub(super) struct Learner<E: Engine> {
     pub(super) improvement: UpdateState,
     pub(super) critics: Critics<E>,
     pub(super) guidance: Option<Guidance<E>>,
+    /// `normalise_observations`: the statistics the next batch is acted on and
+    /// standardised with.
+    pub(super) observation_stats: Option<ObservationStats>,
     pub(super) iteration: usize,
     pub(super) samples: usize,
     pub(super) engines: Vec<EngineSpan>,
@@ -74,10 +77,21 @@ impl<E: Engine> Learner<E> {
             improvement: state.improvement.clone(),
             critics,
             guidance,
+            observation_stats: networks
+                .observation_norm
+                .as_ref()
+                .map(ObservationStats::from_module),
             iteration: state.iteration,
             samples: state.samples,
             engines,
         })
+    }
+
+    /// The policy as it stands, for acting: it sees observations as the networks do.
+    pub(super) fn acting(&self, engine: &E) -> ActingPolicy {
+        self.policy
+            .acting(engine)
+            .with_observation_norm(self.observation_stats.clone())
     }
 
     /// The learner as a [`LearnerState`], its networks written into `shapes` (modules of
@@ -105,6 +119,10 @@ impl<E: Engine> Learner<E> {
             discriminator: discriminator
                 .zip(shapes.discriminator.clone())
                 .map(|(d, shape)| d.to_module(engine, shape)),
+            observation_norm: self
+                .observation_stats
+                .as_ref()
+                .map(|stats| stats.module(&Default::default())),
         };
         LearnerState {
             iteration: self.iteration,

@@ -15,7 +15,7 @@ use logo_envs::{ResetPoint, RngState};
 use logo_nn::flat::params_to_vec;
 use logo_nn::{
     Checkpoint, CheckpointMeta, Cpu, Discriminator, DiscriminatorConfig, GaussianPolicy,
-    PolicyConfig, ValueNet, load_reference_policy,
+    ObservationNorm, ObservationStats, PolicyConfig, ValueNet, load_reference_policy,
 };
 
 use crate::adam::Adam;
@@ -66,6 +66,8 @@ pub struct Networks<B: Backend = Cpu> {
     pub critic: Vec<ValueNet<B>>,
     pub guidance_critic: Option<Vec<ValueNet<B>>>,
     pub discriminator: Option<Discriminator<B>>,
+    /// `normalise_observations`: the observation statistics (not trained: counted).
+    pub observation_norm: Option<ObservationNorm<B>>,
 }
 
 /// The sampler's generator and every env copy's reset point between two batches.
@@ -156,6 +158,9 @@ impl LearnerState {
             engines: engine_history(meta).map_err(bad)?,
         };
         state.check_optimisers().map_err(bad)?;
+        if let Some(norm) = &state.networks.observation_norm {
+            ObservationStats::from_module(norm).check().map_err(bad)?;
+        }
         Ok((config, state))
     }
 
@@ -419,11 +424,15 @@ impl Networks {
             }
             _ => None,
         };
+        let observation_norm = config
+            .normalise_observations
+            .then(|| ObservationStats::new(obs_dim).module(&device));
         let networks = Self {
             policy,
             critic,
             guidance_critic,
             discriminator,
+            observation_norm,
         };
         // burn initialises parameters lazily, at their first use: draw them all now, under
         // the lock, in a fixed order (the fields').

@@ -28,7 +28,7 @@ use std::sync::Arc;
 
 use logo_data::Demonstrations;
 use logo_envs::EnvFactory;
-use logo_nn::{Engine, Policy};
+use logo_nn::{ActingPolicy, Engine};
 
 use crate::config::TrainConfig;
 use crate::metrics::IterationMetrics;
@@ -129,8 +129,10 @@ impl<E: Engine> Trainer<E> {
         &self.resources.engine
     }
 
-    pub fn policy(&self) -> &Policy<E> {
-        &self.learner.policy
+    /// The policy as it stands, for acting (through the observation statistics, where
+    /// the run standardises observations).
+    pub fn acting(&self) -> ActingPolicy {
+        self.learner.acting(&self.resources.engine)
     }
 
     pub fn run_dir(&self) -> &Path {

@@ -44,6 +44,14 @@ class Policy:
     def log_std(self) -> np.ndarray:
         return self._policy.log_std
 
+    @property
+    def observation_norm(self) -> dict[str, np.ndarray] | None:
+        """``{"mean": ..., "var": ...}`` where the run standardised observations
+        (``normalise_observations``): the mean net sees ``clip((obs - mean) / sqrt(var +
+        1e-8), -10, 10)``, which :meth:`predict` applies. None otherwise."""
+        norm = self._policy.observation_norm
+        return None if norm is None else {"mean": norm[0], "var": norm[1]}
+
     def predict(
         self,
         obs,
@@ -70,12 +78,18 @@ class Policy:
     def state_dict(self) -> dict[str, np.ndarray]:
         """``{"0.weight": [out, in], "0.bias": ..., "2.weight": ..., "log_std": ...}``: the
         keys and layouts of ``torch.nn.Sequential(Linear, Tanh, Linear, Tanh, Linear)``
-        (indices 0, 2, 4: the Tanh layers hold no weights), plus ``log_std``."""
+        (indices 0, 2, 4: the Tanh layers hold no weights), plus ``log_std``, and
+        ``observation_mean`` / ``observation_var`` where the policy standardises its
+        observations (:attr:`observation_norm`)."""
         state = {}
         for i, (weight, bias) in enumerate(self._policy.layers()):
             state[f"{2 * i}.weight"] = weight
             state[f"{2 * i}.bias"] = bias
         state["log_std"] = self.log_std
+        if self.observation_norm is not None:
+            # Not torch weights: the standardisation the Sequential's input goes through.
+            state["observation_mean"] = self.observation_norm["mean"]
+            state["observation_var"] = self.observation_norm["var"]
         return state
 
 
