@@ -165,6 +165,30 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
     let bad = summary(&external, "2G");
     let text = String::from_utf8_lossy(&bad.stderr);
     assert!(!bad.status.success() && text.contains("2G"), "{text}");
+    // A folder of outside CSVs is a configuration of that many seeds (the reference
+    // code's five seeds): at 300 samples, window 1, the mean of 7 and 9, ± their std.
+    let seeds = dir.join("reference-seeds");
+    std::fs::create_dir_all(&seeds).unwrap();
+    std::fs::write(seeds.join("seed0.csv"), "step,score\n100,5\n300,7\n").unwrap();
+    std::fs::write(seeds.join("seed1.csv"), "step,score\n100,1\n300,9\n").unwrap();
+    let folder = format!("{},step,score,reference", seeds.display());
+    let grouped = logo(&[
+        "summary",
+        a_runs.to_str().unwrap(),
+        "--external",
+        &folder,
+        "--at",
+        "300",
+        "--window",
+        "1",
+    ]);
+    let text = String::from_utf8_lossy(&grouped.stdout);
+    assert!(grouped.status.success(), "{text}");
+    let row = text.lines().find(|l| l.starts_with("| reference |"));
+    assert!(
+        row.is_some_and(|r| r.starts_with("| reference | 2 |") && r.ends_with("| 8 ± 1 |")),
+        "{text}"
+    );
     // --each-seed: one row per seed of config b, each its own one-seed configuration,
     // under the name --label gives it; a --label naming no configuration is refused.
     let b_runs = out.join("b");

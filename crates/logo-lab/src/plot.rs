@@ -22,6 +22,7 @@ use plotters::prelude::*;
 
 use crate::runs::{
     EVAL_RETURN, ExternalSpec, Metric, Run, RunSelection, interpolate, read_external, up_to,
+    with_external_runs,
 };
 
 #[derive(Args)]
@@ -255,7 +256,15 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         log10: args.log10,
     };
     let selection = &args.selection;
-    let mut runs = selection.discover(&metric)?;
+    // An outside label of several seeds (a folder, or CSVs given one label) is drawn as a
+    // configuration is, with its band; a label of one CSV as a line.
+    let externals = &selection.externals;
+    let seeds_of = |label: &str| externals.iter().filter(|s| s.label == label).count();
+    let (seeded, single): (Vec<ExternalSpec>, Vec<ExternalSpec>) = externals
+        .iter()
+        .cloned()
+        .partition(|spec| spec.path.is_dir() || seeds_of(&spec.label) > 1);
+    let mut runs = with_external_runs(selection.discover(&metric)?, &seeded)?;
     if let Some(max_samples) = selection.max_samples {
         up_to(&mut runs, max_samples)?;
     }
@@ -284,7 +293,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         );
     }
     let title = args.title.clone().unwrap_or_else(|| envs.join(", "));
-    let externals = external_curves(&selection.externals, args.smooth, selection.max_samples)?;
+    let externals = external_curves(&single, args.smooth, selection.max_samples)?;
     let csv_path = args.out.with_extension("csv");
     write_csv(&csv_path, curves.iter().chain(&externals))?;
     let figure = Figure {

@@ -47,11 +47,41 @@ pub(crate) fn parse_external(text: &str) -> std::result::Result<ExternalSpec, St
     })
 }
 
+/// The CSV files of an outside curve: the file, or every `.csv` directly in the folder
+/// (one seed each), in name order.
+pub fn external_files(spec: &ExternalSpec) -> Result<Vec<PathBuf>> {
+    if !spec.path.is_dir() {
+        return Ok(vec![spec.path.clone()]);
+    }
+    let entries = std::fs::read_dir(&spec.path)
+        .with_context(|| format!("--external {}", spec.path.display()))?;
+    let mut files = Vec::new();
+    for entry in entries {
+        let path = entry
+            .with_context(|| format!("--external {}", spec.path.display()))?
+            .path();
+        if path.extension().is_some_and(|e| e == "csv") {
+            files.push(path);
+        }
+    }
+    files.sort();
+    ensure!(
+        !files.is_empty(),
+        "--external {}: a folder with no .csv file",
+        spec.path.display()
+    );
+    Ok(files)
+}
+
 /// An outside curve: (samples, value) in the file's order, rows with an empty field
 /// left out. A missing column, a field that is not a number, or no row at all is an
 /// error naming the file (and the row).
 pub fn read_external(spec: &ExternalSpec) -> Result<Vec<(f64, f64)>> {
-    let path = &spec.path;
+    read_external_file(&spec.path, spec)
+}
+
+/// [`read_external`] of one file of `spec` (a folder's CSV).
+fn read_external_file(path: &Path, spec: &ExternalSpec) -> Result<Vec<(f64, f64)>> {
     let mut reader =
         csv::Reader::from_path(path).with_context(|| format!("--external {}", path.display()))?;
     let headers = reader
@@ -100,12 +130,40 @@ pub fn read_external(spec: &ExternalSpec) -> Result<Vec<(f64, f64)>> {
     Ok(points)
 }
 
-/// `--external` curves as single-seed [`Run`]s named by their labels.
+/// `--external` curves as [`Run`]s of their labels: a run per CSV, its seed the N of a
+/// `seed<N>` in the file's name where there is one.
 pub fn external_runs(specs: &[ExternalSpec]) -> Result<Vec<Run>> {
-    specs
+    let mut runs = Vec::new();
+    for spec in specs {
+        for file in external_files(spec)? {
+            let mut run = Run::unseeded(&spec.label, read_external_file(&file, spec)?);
+            run.seed = file
+                .file_stem()
+                .and_then(|stem| stem.to_str())
+                .and_then(|stem| stem.rsplit_once("seed"))
+                .and_then(|(_, n)| n.split(|c: char| !c.is_ascii_digit()).next())
+                .and_then(|n| n.parse().ok());
+            runs.push(run);
+        }
+    }
+    Ok(runs)
+}
+
+/// `runs` with the `--external` curves of `specs` added; a label that is also a
+/// configuration among the runs is an error, not a silent merge.
+pub fn with_external_runs(mut runs: Vec<Run>, specs: &[ExternalSpec]) -> Result<Vec<Run>> {
+    let external = external_runs(specs)?;
+    if let Some(clash) = external
         .iter()
-        .map(|spec| Ok(Run::unseeded(&spec.label, read_external(spec)?)))
-        .collect()
+        .find(|e| runs.iter().any(|r| r.group == e.group))
+    {
+        bail!(
+            "--external label {:?} is also the name of a configuration among the runs; give the curve another label",
+            clash.group
+        );
+    }
+    runs.extend(external);
+    Ok(runs)
 }
 
 /// A positive sample count: a number (`2000000`, `2e6`) or one with a `k` or `M` suffix
@@ -214,10 +272,13 @@ pub struct RunSelection {
     /// a configuration's seeds pooled: for studies of one to three seeds.
     #[arg(long)]
     pub each_seed: bool,
-    /// An outside curve (e.g. a published one: docs/results/reference-curves/):
-    /// CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]. `logo plot` draws it over the runs' bands,
-    /// `logo summary` reads it as one more configuration of one seed. Empty fields are
-    /// skipped; --max-samples (and plot's --smooth) apply to it too. Repeatable.
+    /// An outside curve (e.g. the reference code's: docs/results/reference-curves/):
+    /// CSV,SAMPLES_COLUMN,VALUE_COLUMN[,LABEL]. A CSV is one seed: `logo plot` draws it
+    /// as a line over the runs' bands. A folder of CSVs (`seed0.csv`, `seed1.csv`, ...)
+    /// is a configuration of as many seeds, drawn with its band, and `logo summary`
+    /// reads either as one more configuration (with --compare, IQMs and intervals).
+    /// Empty fields are skipped; --max-samples (and plot's --smooth) apply too.
+    /// Repeatable; CSVs of one label are seeds of one configuration.
     #[arg(long = "external", value_parser = parse_external)]
     pub externals: Vec<ExternalSpec>,
     /// A configuration's name in the figure or table, FOLDER=NAME (e.g. hopper=LOGO: a

@@ -8,12 +8,13 @@
 
 use std::collections::BTreeMap;
 
-use anyhow::{Result, bail, ensure};
+use anyhow::{Result, ensure};
 use clap::Args;
 use logo_stats::{Aggregate, Bootstrap, Estimate, mean_std, median};
 
 use crate::runs::{
-    EVAL_RETURN, Metric, Run, RunSelection, external_runs, interpolate, parse_max_samples, up_to,
+    EVAL_RETURN, Metric, Run, RunSelection, interpolate, parse_max_samples, up_to,
+    with_external_runs,
 };
 
 #[derive(Args)]
@@ -231,18 +232,7 @@ pub fn run(args: &SummaryArgs) -> Result<()> {
         log10: false,
     };
     let selection = &args.selection;
-    let mut runs = selection.discover(&metric)?;
-    let external = external_runs(&selection.externals)?;
-    if let Some(clash) = external
-        .iter()
-        .find(|e| runs.iter().any(|r| r.group == e.group))
-    {
-        bail!(
-            "--external label {:?} is also the name of a configuration among the runs; give the curve another label",
-            clash.group
-        );
-    }
-    runs.extend(external);
+    let mut runs = with_external_runs(selection.discover(&metric)?, &selection.externals)?;
     if let Some(max_samples) = selection.max_samples {
         up_to(&mut runs, max_samples)?;
     }
