@@ -114,6 +114,15 @@ pub struct TrainConfig {
     pub guidance: Option<GuidanceConfig>,
 }
 
+/// `[guidance] decay_on`: what δ_k's schedule reads.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DecaySignal {
+    #[default]
+    Return,
+    Success,
+}
+
 /// A config's `dtype`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -134,6 +143,12 @@ pub struct GuidanceConfig {
     pub alpha: f64,
     /// K_δ: iterations before δ_k may shrink.
     pub warmup: usize,
+    /// What δ_k's decay reads: the batch's mean return (`"return"`, LOGO's: on its
+    /// sparse tasks the return rises only as the agent earns), or the share of the
+    /// batch's episodes that succeed by `success` (`"success"`: on a task with an action
+    /// cost the return also rises as the actions shrink, with the goal out of reach).
+    #[serde(default)]
+    pub decay_on: DecaySignal,
     /// Observation dims the discriminator sees (censored setting); default: all.
     pub observe: Option<usize>,
     #[serde(default = "default_disc_lr")]
@@ -387,6 +402,13 @@ impl TrainConfig {
         }
         if let Some(g) = &self.guidance {
             g.validate()?;
+            if g.decay_on == DecaySignal::Success && self.success == SuccessRule::None {
+                return Err(
+                    "guidance.decay_on = \"success\" needs a success rule: success = \"task\" \
+                     or \"terminated\", not \"none\""
+                        .into(),
+                );
+            }
         }
         // A policy file (a reference `.pt`) was trained on raw observations.
         let behaviour = self

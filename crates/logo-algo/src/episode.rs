@@ -37,21 +37,30 @@ pub enum SuccessRule {
 }
 
 impl SuccessRule {
-    /// Whether `episode` succeeded; None where the rule and the task define no success.
-    pub fn judge(self, episode: &Episode) -> Option<bool> {
+    /// Whether an episode succeeded, from whether the task reported its goal reached
+    /// (None: it reports nothing) and whether it ended by termination; None where the
+    /// rule and the task define no success.
+    pub fn judge(self, reached: Option<bool>, terminated: bool) -> Option<bool> {
         match self {
-            Self::Task => episode.reached,
-            Self::Terminated => Some(episode.terminated),
+            Self::Task => reached,
+            Self::Terminated => Some(terminated),
             Self::None => None,
         }
     }
 
-    /// The successes among `episodes`: (k, n), or None where none is defined.
-    pub fn count(self, episodes: &[Episode]) -> Option<(usize, usize)> {
-        let judged: Vec<Option<bool>> = episodes.iter().map(|e| self.judge(e)).collect();
+    /// The successes among episodes of (reached, terminated): (k, n), or None where
+    /// none is defined.
+    pub fn count(
+        self,
+        episodes: impl IntoIterator<Item = (Option<bool>, bool)>,
+    ) -> Option<(usize, usize)> {
+        let judged: Vec<Option<bool>> = episodes
+            .into_iter()
+            .map(|(reached, terminated)| self.judge(reached, terminated))
+            .collect();
         judged.iter().any(Option::is_some).then(|| {
             let k = judged.iter().filter(|s| **s == Some(true)).count();
-            (k, episodes.len())
+            (k, judged.len())
         })
     }
 }
@@ -163,7 +172,7 @@ pub fn evaluate(
         action_rms: mean(|e| e.action_rms),
         success: plan
             .success
-            .count(&episodes)
+            .count(episodes.iter().map(|e| (e.reached, e.terminated)))
             .map(|(k, n)| k as f64 / n as f64),
     })
 }

@@ -17,6 +17,10 @@ pub struct IterationMetrics {
     pub episodes: usize,
     pub train_sparse_return: f64,
     pub train_dense_return: f64,
+    /// The share of the batch's episodes that reached the goal by the run's success rule
+    /// (NaN where it defines none, and in older files).
+    #[serde(default = "nan")]
+    pub train_success: f64,
     /// Mean dense return of the deterministic policy (NaN when not evaluated).
     pub eval_dense_return: f64,
     /// Its mean return of the trained task's own reward (the sparse one on a sparse

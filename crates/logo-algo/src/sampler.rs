@@ -13,6 +13,8 @@
 //! IDP). `Steps`: a fixed number of steps per copy.
 
 use logo_envs::{EnvError, VecEnv, clip_to_range};
+
+use crate::episode::SuccessRule;
 use logo_nn::ActingPolicy;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -33,6 +35,9 @@ pub struct Batch {
     pub truncations: Vec<(usize, Vec<f64>)>,
     pub episode_returns: Vec<f64>,
     pub episode_dense_returns: Vec<f64>,
+    /// Each ended episode's (goal reached at some step, as the task reports it; ended by
+    /// termination): what a success rule judges.
+    pub episode_outcomes: Vec<(Option<bool>, bool)>,
 }
 
 impl Batch {
@@ -46,6 +51,12 @@ impl Batch {
 
     pub fn mean_return(&self) -> f64 {
         self.episode_returns.iter().sum::<f64>() / self.episode_returns.len().max(1) as f64
+    }
+
+    /// The share of the batch's episodes that succeeded by `rule`, where it defines one.
+    pub fn success_rate(&self, rule: SuccessRule) -> Option<f64> {
+        rule.count(self.episode_outcomes.iter().copied())
+            .map(|(k, n)| k as f64 / n.max(1) as f64)
     }
 
     pub fn mean_dense_return(&self) -> f64 {
@@ -78,6 +89,8 @@ struct Episode {
     dense: Vec<f64>,
     total: f64,
     total_dense: f64,
+    /// Whether the task reported its goal reached at some step (None: never reported).
+    reached: Option<bool>,
 }
 
 /// Collects batches from a vectorised env; keeps the episodes that continue from one
@@ -115,6 +128,7 @@ impl Batch {
         if episode_over {
             self.episode_returns.push(ep.total);
             self.episode_dense_returns.push(ep.total_dense);
+            self.episode_outcomes.push((ep.reached, terminated));
         }
         self.obs.append(&mut ep.obs);
         self.actions.append(&mut ep.actions);
@@ -142,6 +156,7 @@ impl Batch {
         self.episode_returns.append(&mut other.episode_returns);
         self.episode_dense_returns
             .append(&mut other.episode_dense_returns);
+        self.episode_outcomes.append(&mut other.episode_outcomes);
     }
 }
 
@@ -222,6 +237,9 @@ impl Sampler {
                 ep.dense.push(step.info.dense_reward);
                 ep.total += step.reward;
                 ep.total_dense += step.info.dense_reward;
+                if let Some(reached) = step.info.success {
+                    ep.reached = Some(reached || ep.reached == Some(true));
+                }
                 if step.done() {
                     match mode {
                         RolloutMode::Episodes => {

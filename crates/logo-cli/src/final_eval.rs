@@ -66,7 +66,7 @@ pub fn play(
 /// is not a success: a failed run on a task with an action cost still has one).
 pub fn summary(episodes: &[Episode], success: SuccessRule) -> Value {
     let of = |f: fn(&Episode) -> f64| mean(&episodes.iter().map(f).collect::<Vec<_>>());
-    let reached = success.count(episodes);
+    let reached = success.count(episodes.iter().map(|e| (e.reached, e.terminated)));
     json!({
         "return": of(|e| e.return_),
         "dense_return": of(|e| e.dense_return),

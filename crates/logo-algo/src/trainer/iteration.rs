@@ -26,7 +26,7 @@ use super::Trainer;
 use super::learner::{Advantages, CriticFits, advantages};
 use super::recorder::Stopwatch;
 use super::resources::{Collected, Resources};
-use crate::config::TrainConfig;
+use crate::config::{DecaySignal, TrainConfig};
 use crate::episode::Evaluation;
 use crate::guidance::Guidance;
 use crate::metrics::IterationMetrics;
@@ -71,7 +71,7 @@ impl<E: Engine> Trainer<E> {
         };
 
         // 3. δ_k, then the guidance reward and its advantages while δ_k is above its floor.
-        let guidance = in_phase("advantages", || self.guidance_stream(k, batch, &data));
+        let guidance = in_phase("advantages", || self.guidance_stream(k, batch, &data))?;
         let t_advantages = clock.lap();
 
         self.learner.iteration += 1;
@@ -132,18 +132,21 @@ impl<E: Engine> Trainer<E> {
         (obs, actions, logp_k)
     }
 
-    /// Step 3: δ_k from the batch's mean sparse return; then, while δ_k is above its
-    /// floor, r_C and its advantages with the guidance critic.
+    /// Step 3: δ_k from the batch's mean sparse return (or success rate: `decay_on`);
+    /// then, while δ_k is above its floor, r_C and its advantages with the guidance
+    /// critic.
     fn guidance_stream(
         &mut self,
         k: usize,
         batch: &Batch,
         data: &StepBatch<E>,
-    ) -> Option<GuidanceStream<E>> {
-        let g = self.learner.guidance.as_mut()?;
-        g.schedule.update(k, batch.mean_return());
+    ) -> Result<Option<GuidanceStream<E>>, TrainError> {
+        let Some(g) = self.learner.guidance.as_mut() else {
+            return Ok(None);
+        };
+        g.schedule.update(k, decay_signal(&self.config, batch)?);
         if !g.schedule.guidance_on() {
-            return None;
+            return Ok(None);
         }
         let reward = g.rewards(&self.resources.engine, batch, data);
         let critic = self
@@ -160,11 +163,11 @@ impl<E: Engine> Trainer<E> {
             &data.obs,
             &reward.rewards,
         );
-        Some(GuidanceStream {
+        Ok(Some(GuidanceStream {
             advantages,
             discriminator_inputs: reward.discriminator_inputs,
             mean_reward: reward.rewards.iter().sum::<f64>() / reward.rewards.len().max(1) as f64,
-        })
+        }))
     }
 
     /// Steps 4-8 of iteration `k`, laid over the threads by the schedule: the one place
@@ -222,6 +225,21 @@ impl<E: Engine> Trainer<E> {
             next,
         })
     }
+}
+
+/// What δ_k's schedule reads of `batch`: its mean return, or its success rate
+/// (`[guidance] decay_on`); a task that reports no success cannot give the latter.
+fn decay_signal(config: &TrainConfig, batch: &Batch) -> Result<f64, TrainError> {
+    let on = config.guidance.as_ref().map(|g| g.decay_on);
+    if on != Some(DecaySignal::Success) {
+        return Ok(batch.mean_return());
+    }
+    batch.success_rate(config.success).ok_or_else(|| {
+        "guidance.decay_on = \"success\": no episode of the batch reported reaching its goal \
+         or not (the task defines no success); set success = \"terminated\" for a task \
+         that ends at its goal, or report info[\"is_success\"]"
+            .into()
+    })
 }
 
 /// Step 3's output while the guidance step runs.

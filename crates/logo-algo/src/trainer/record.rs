@@ -64,6 +64,7 @@ impl<E: Engine> Trainer<E> {
             episodes: batch.episode_returns.len(),
             train_sparse_return: batch.mean_return(),
             train_dense_return: batch.mean_dense_return(),
+            train_success: batch.success_rate(self.config.success).unwrap_or(f64::NAN),
             eval_dense_return: eval(|e| e.dense_return),
             eval_return: eval(|e| e.return_),
             eval_moved: eval(|e| e.moved),
