@@ -14,7 +14,7 @@ logo="${LOGO:-./target/release/logo}"
   configs/experiments/halfcheetah_cross_episode.toml \
   configs/experiments/halfcheetah_strong_wolfe.toml \
   --seeds 0..3 --jobs "$jobs" --threads "$(nproc)" --iterations "$iterations" --out "$out"
-reference=docs/results/reference-curves/HalfCheetah_v4_seed0_2M_ref_rerun.csv
+reference=docs/results/reference-curves/v4/halfcheetah/seed0.csv
 "$logo" plot "$out" --out "$out/figure.png" --paper-lines --smooth 5 \
   --external "$reference,samples,eval_dense_return,reference code (seed 0)"
 for metric in eval_action_rms eval_moved delta_k guidance_kl step_norm mean_log_std; do
