@@ -348,7 +348,7 @@ fn record(args: &RecordArgs) -> Result<()> {
         metadata: Default::default(),
     };
     env_metadata(&mut dataset, &args.env, &spec);
-    recording_metadata(&mut dataset, args, &meta, &dense_returns, &sparse_returns);
+    recording_metadata(&mut dataset, args, meta, &dense_returns, &sparse_returns);
     write_minari(&dataset, &args.out)?;
     let (dm, ds) = mean_std(&dense_returns);
     let (sm, ss) = mean_std(&sparse_returns);

@@ -178,9 +178,9 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     let (engine_args, _) = args.engine.or_trained_on(last, EngineArgs::on_cpu);
     let (acting, engine) = engine_args.with(OnEngine(&policy))?;
     if args.json {
-        return print_json(args, &meta, &acting, engine);
+        return print_json(args, meta, &acting, engine);
     }
-    println!("{}", header(args, &meta, &history, &engine));
+    println!("{}", header(args, meta, &history, &engine));
     // The dense task, and the sparse one trained on (LOGO's for a dense checkpoint).
     let dense_id = logo_envs::dense_id(&meta.env_id).to_string();
     let sparse_id = if meta.env_id == dense_id {
@@ -193,7 +193,7 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         None => vec![dense_id, sparse_id],
     };
     for (i, id) in ids.iter().enumerate() {
-        evaluate_on(args, &meta, &acting, id, i == 0)?;
+        evaluate_on(args, meta, &acting, id, i == 0)?;
     }
     Ok(())
 }
