@@ -74,8 +74,17 @@ holds seed*/ runs, and a .csv path is one run):
                                   `logo eval` output in each run folder]; "sparse
                                   return" is the first field (the env's own return)
 
+  config   file=PATH              a settings table: the first column `[table] key` or
+                                  `key`, the second its value in that TOML file
+
+  goal     rows=GROUP;...         a task that ends only at its goal: per group its seeds
+                                  (exact), then per column "final: ... per seed" (or
+                                  "best: ..."), each seed's count of eval.json episodes
+                                  that terminated, in seed order, or "... all episodes",
+                                  the seeds whose every episode did
+
 Exit status 1 on any mismatch, listing table, row, column, document and data.
-Usage: scripts/check_results.py [docs/results.md]
+Usage: scripts/check_results.py [PAGE ...]   (default: docs/results.md, docs/findings/*.md)
 """
 
 import csv
@@ -638,6 +647,45 @@ def check_table(kind, opts, header, body):
                     spread = max(values) - min(values)
                     if not interval_agrees(body[r][c], point, (lo, hi), 0.05 * spread):
                         wrong.append((r + 1, header[c], body[r][c], f"{point:.0f} [{lo:.0f}, {hi:.0f}]"))
+    elif kind == "goal":
+        groups = opts["rows"].split(";")
+        if len(groups) != len(body):
+            raise SystemExit(f"goal: {len(groups)} groups for {len(body)} rows")
+        seed_number = lambda p: int(re.sub(r"\D", "", p.parent.name) or 0)  # noqa: E731
+        for r, group in enumerate(groups):
+            files = sorted((ROOT / "docs/results" / group).glob("seed*/eval.json"), key=seed_number)
+            if not files:
+                raise SystemExit(f"goal: no seed*/eval.json under {group}")
+            docs = [json.loads(p.read_text()) for p in files]
+            compare(r, 1, str(len(docs)))
+            for c in range(2, len(header)):
+                name = header[c].lower()
+                policy = "best" if name.startswith("best") else "final"
+                episodes = [d["policies"][policy]["mean_action"]["episodes"] for d in docs]
+                # An episode of a task that ends only at its goal reached it if it terminated.
+                counts = [sum(bool(e["terminated"]) for e in eps) for eps in episodes]
+                if "per seed" in name:
+                    compare(r, c, ", ".join(map(str, counts)))
+                elif "all episodes" in name:
+                    compare(r, c, str(sum(k == len(eps) for k, eps in zip(counts, episodes))))
+                else:
+                    raise SystemExit(f"goal: column {header[c]!r}: expected '... per seed' or '... all episodes'")
+    elif kind == "config":
+        # Each row's first cell names a key (`[table] key` or `key`); the second holds its
+        # value in that TOML file, as TOML writes it (a string with its quotes).
+        import tomllib
+
+        config = tomllib.loads((ROOT / opts["file"]).read_text())
+        for r, row in enumerate(body):
+            m = re.fullmatch(r"`(?:\[(\w+)\] )?(\w+)`", row[0].strip())
+            if not m:
+                raise SystemExit(f"config: row {r + 1}: expected `[table] key` or `key`, got {row[0]!r}")
+            table, key = m.groups()
+            value = (config.get(table, {}) if table else config).get(key)
+            if value is None:
+                raise SystemExit(f"config: {opts['file']} has no {row[0]}")
+            shown = f'`"{value}"`' if isinstance(value, str) else str(value).lower() if isinstance(value, bool) else str(value)
+            compare(r, 1, shown)
     elif kind == "cells":
         for key, spec in opts.items():
             m = re.fullmatch(r"r(\d+)c(\d+)", key)
@@ -655,7 +703,19 @@ def check_table(kind, opts, header, body):
 
 
 def main():
-    doc = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "docs/results.md"
+    docs = [Path(a) for a in sys.argv[1:]] or [
+        ROOT / "docs/results.md", *sorted((ROOT / "docs/findings").glob("*.md"))
+    ]
+    failures = cells = count = 0
+    for doc in docs:
+        f, c, n = check_doc(doc)
+        failures, cells, count = failures + f, cells + c, count + n
+    print(f"{count} tables, {cells} cells recomputed, {failures} failing")
+    return 1 if failures else 0
+
+
+def check_doc(doc):
+    """(failing tables, cells recomputed, tables) of one page."""
     lines = doc.read_text().splitlines()
     failures = cells = 0
     found = tables(lines)
@@ -682,8 +742,7 @@ def main():
         for r, column, document, computed in wrong:
             print(f"    row {r}, `{column}`: document `{document}`, data `{computed}`")
         failures += bool(wrong)
-    print(f"{len(found)} tables, {cells} cells recomputed, {failures} failing")
-    return 1 if failures else 0
+    return failures, cells, len(found)
 
 
 if __name__ == "__main__":

@@ -94,6 +94,21 @@ METRIC_INTERVALS = """<!-- check intervals window=5 rows=python-idp@train_sparse
 | python-idp | 5 | 7595 [4672, 9357] | 8855 [3984, 9357] |
 """
 
+# Episodes at the goal per seed (a task that ends only there) from eval.json.
+GOAL = """<!-- check goal rows=new-task-mcc/template -->
+| arm | seeds | final: episodes at the goal, per seed | final: seeds with all episodes | best: episodes at the goal, per seed |
+| --- | --- | --- | --- | --- |
+| old template | 5 | 0, 0, 0, 0, 0 | 0 | 8, 20, 0, 20, 20 |
+"""
+
+# A settings table against the TOML file it describes.
+CONFIG = """<!-- check config file=configs/templates/new_task.toml -->
+| setting | value |
+| --- | --- |
+| `[guidance] delta0` | 0.01 |
+| `success` | `"task"` |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -107,7 +122,7 @@ def check(text):
 def main():
     failures = []
     goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS,
-             EVALJSON, METRIC_INTERVALS, EVALS_OWN)
+             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -153,6 +168,11 @@ def main():
         "a table without its source": GOOD.split("\n", 1)[1],
         "a source that does not exist": GOOD.replace("logo-hopper", "no-such-group"),
         "an unknown column": GOOD.replace("| at 2M |", "| median of something |"),
+        "a wrong count at the goal": GOAL.replace("8, 20, 0, 20, 20", "8, 20, 0, 20, 19"),
+        "a wrong count of seeds at the goal": GOAL.replace("| 0 | 8,", "| 1 | 8,"),
+        "a goal table's seeds in another order": GOAL.replace("8, 20, 0, 20, 20", "20, 20, 20, 8, 0"),
+        "a wrong setting": CONFIG.replace("| 0.01 |", "| 0.2 |"),
+        "a setting the file lacks": CONFIG.replace("[guidance] delta0", "[guidance] delta"),
     }
     for name, text in cases.items():
         code, out = check(text)
