@@ -29,7 +29,10 @@ echo "== parity fixtures vs the Gymnasium 1.4.0 oracle"
 echo "== the statistics' fixture vs the rliable package (crates/logo-stats/tests/rliable.rs)"
 .venv/bin/python tests/stats/rliable_reference.py --check tests/stats/rliable.json
 
-echo "== the tables of docs/results.md vs the metrics in docs/results/"
+echo "== one compilation at set-up: the wheel, the binary and the workspace share features"
+python3 scripts/check_one_build.py
+
+echo "== the tables of docs/findings/ and docs/history.md vs the metrics in docs/results/"
 .venv/bin/python scripts/check_results.py
 .venv/bin/python tests/python/check_results_fails.py
 
