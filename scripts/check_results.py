@@ -74,6 +74,15 @@ holds seed*/ runs, and a .csv path is one run):
                                   `logo eval` output in each run folder]; "sparse
                                   return" is the first field (the env's own return)
 
+  versus   rows=A>B@BUDGET:W;...  two groups at a budget, a row each, columns task | budget
+                                  | A: IQM [95% CI] | seeds | B: IQM [95% CI] | seeds |
+                                  P(A > B) [95% CI] | IQM difference [95% CI] | verdict;
+                                  each seed's value its mean of the W evaluations nearest
+                                  BUDGET (a group may be an outside curve's folder of
+                                  seed*.csv); intervals as in arms; the verdict "ahead" or
+                                  "behind" where the difference's interval excludes 0,
+                                  "level" where it holds 0 and is narrower than 2000, else
+                                  "unresolved", with ", suggests" under 5 seeds a side
   config   file=PATH              a settings table: the first column `[table] key` or
                                   `key`, the second its value in that TOML file
 
@@ -128,11 +137,15 @@ def run_file(path):
 
 
 def group_runs(path):
-    """The runs of a group folder (seed*/metrics.csv, in seed order), or the one run."""
+    """The runs of a group folder (seed*/metrics.csv, or an outside curve's seed*.csv as
+    `logo summary --external FOLDER` reads it, in seed order), or the one run."""
     base = ROOT / "docs/results" / path
     seeds = sorted(base.glob("seed*/metrics.csv"), key=lambda p: int(p.parent.name[4:]))
     if seeds:
         return [read_run(p) for p in seeds]
+    curves = sorted(base.glob("seed*.csv"), key=lambda p: int(p.stem[4:]))
+    if curves:
+        return [read_run(p) for p in curves]
     return [read_run(run_file(path))]
 
 
@@ -611,6 +624,50 @@ def check_table(kind, opts, header, body):
                 checked += 1
                 if not interval_agrees(row[c], point, (lo, hi), tolerance):
                     wrong.append((r + 1, header[c], row[c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
+    elif kind == "versus":
+        specs = opts["rows"].split(";")
+        if len(specs) != len(body):
+            raise SystemExit(f"versus: {len(specs)} row specs for {len(body)} rows")
+        for r, (spec, row) in enumerate(zip(specs, body)):
+            m = re.fullmatch(r"([^>@]+)>([^@]+)@([\d.]+[kM]?):(\d+)", spec)
+            if not m:
+                raise SystemExit(f"versus: row spec {spec!r} is not GROUP>OTHER@BUDGET:W")
+            x, window = parse_samples(m.group(3)), int(m.group(4))
+            at = lambda group: [
+                v for v in (window_at(evaluations(rows), x, window) for rows in group_runs(group))
+                if v is not None
+            ]
+            xs, ys = at(m.group(1)), at(m.group(2))
+            compare(r, 3, str(len(xs)))
+            compare(r, 5, str(len(ys)))
+            spread = max(xs + ys) - min(xs + ys)
+            cells = [
+                (2, lambda u, v: iqm(u), lambda: bootstrap_interval(xs, iqm), 0.05 * spread),
+                (4, lambda u, v: iqm(v), lambda: bootstrap_interval(ys, iqm), 0.05 * spread),
+                (6, probability_of_improvement,
+                 lambda: bootstrap_two(xs, ys, probability_of_improvement), 0.05),
+                (7, lambda u, v: iqm(u) - iqm(v),
+                 lambda: bootstrap_two(xs, ys, lambda u, v: iqm(u) - iqm(v)), 0.05 * spread),
+            ]
+            for c, stat, interval, tolerance in cells:
+                point, (lo, hi) = stat(xs, ys), interval()
+                checked += 1
+                if not interval_agrees(row[c], point, (lo, hi), tolerance):
+                    wrong.append((r + 1, header[c], row[c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
+            # The verdict, from the difference's interval as printed: ahead or behind when
+            # it excludes 0, level when it holds 0 and is narrower than ±1000, else
+            # unresolved; "suggests" where either side has fewer than 5 seeds.
+            ends = numbers(row[7])
+            if len(ends) < 3:
+                raise SystemExit(f"versus: row {r + 1}: no interval in {row[7]!r}")
+            lo, hi = ends[1][0], ends[2][0]
+            verdict = ("ahead" if lo > 0 else "behind" if hi < 0
+                       else "level" if hi - lo < 2000 else "unresolved")
+            if min(len(xs), len(ys)) < 5:
+                verdict += ", suggests"
+            checked += 1
+            if row[8].strip().split(" (")[0] != verdict:
+                wrong.append((r + 1, header[8], row[8], verdict))
     elif kind == "evaljson":
         columns = {
             "final: return": ("final", "mean_action", "return"),
@@ -704,7 +761,9 @@ def check_table(kind, opts, header, body):
 
 def main():
     docs = [Path(a) for a in sys.argv[1:]] or [
-        ROOT / "docs/results.md", *sorted((ROOT / "docs/findings").glob("*.md"))
+        ROOT / "docs/results.md",
+        *sorted((ROOT / "docs/findings").glob("*.md")),
+        ROOT / "docs/history.md",
     ]
     failures = cells = count = 0
     for doc in docs:

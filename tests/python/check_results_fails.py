@@ -109,6 +109,13 @@ CONFIG = """<!-- check config file=configs/templates/new_task.toml -->
 | `success` | `"task"` |
 """
 
+# Two groups at a budget, one of them an outside curve's folder of CSVs, with a verdict.
+VERSUS = """<!-- check versus rows=variants-idp/logo-inverted_double_pendulum>reference-curves/v4/idp@200k:5 -->
+| task | budget | logo-rl: IQM [95% CI] | seeds | reference: IQM [95% CI] | seeds | P(logo-rl > reference) [95% CI] | IQM difference [95% CI] | verdict |
+| --- | --- | --- | --- | --- | --- | --- | --- | --- |
+| sparse IDP | 200k | 8033 [4536, 9354] | 5 | 8994 [4225, 9342] | 5 | 0.52 [0.00, 0.88] | −961 [−4092, 3996] | unresolved |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -122,7 +129,7 @@ def check(text):
 def main():
     failures = []
     goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS,
-             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG)
+             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -171,6 +178,10 @@ def main():
         "a wrong count at the goal": GOAL.replace("8, 20, 0, 20, 20", "8, 20, 0, 20, 19"),
         "a wrong count of seeds at the goal": GOAL.replace("| 0 | 8,", "| 1 | 8,"),
         "a goal table's seeds in another order": GOAL.replace("8, 20, 0, 20, 20", "20, 20, 20, 8, 0"),
+        "a wrong reference IQM": VERSUS.replace("8994 [", "8894 ["),
+        "a wrong reference seed count": VERSUS.replace("| 5 | 0.52", "| 4 | 0.52"),
+        "a verdict the interval does not support": VERSUS.replace("| unresolved |", "| level |"),
+        "a wrong difference interval": VERSUS.replace("[−4092, 3996]", "[−4092, −100]"),
         "a wrong setting": CONFIG.replace("| 0.01 |", "| 0.2 |"),
         "a setting the file lacks": CONFIG.replace("[guidance] delta0", "[guidance] delta"),
     }
