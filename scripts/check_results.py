@@ -82,7 +82,9 @@ holds seed*/ runs, and a .csv path is one run):
                                   seed*.csv); intervals as in arms; the verdict "ahead" or
                                   "behind" where the difference's interval excludes 0,
                                   "level" where it holds 0 and is narrower than 2000, else
-                                  "unresolved", with ", suggests" under 5 seeds a side
+                                  "unresolved", with ", suggests" under 5 seeds a side;
+           [max=SAMPLES|budget]   every run read up to SAMPLES, or to its row's budget
+                                  (`logo summary --max-samples`)
   config   file=PATH              a settings table: the first column `[table] key` or
                                   `key`, the second its value in that TOML file
 
@@ -234,6 +236,37 @@ def bootstrap_two(x, y, stat, reps=20_000, seed=0):
         for _ in range(reps)
     )
     return percentile_interval(draws)
+
+
+def bootstrap_two_draws(x, y, stat, reps=20_000, seed=0):
+    """The sorted draws of bootstrap_two (the same stream)."""
+    import random
+    rng = random.Random(seed)
+    return sorted(
+        stat([x[rng.randrange(len(x))] for _ in x], [y[rng.randrange(len(y))] for _ in y])
+        for _ in range(reps)
+    )
+
+
+def band_agrees(cell, point, draws, tolerance):
+    """interval_agrees for a statistic of few values (P over 5 × 4 pairs moves in steps of
+    0.05): each end may lie anywhere between the recomputed draws' quantiles 0.5% either
+    side of its own, so a Monte-Carlo stream that lands on the other side of a step still
+    agrees (the quantile's sampling error at 20,000 draws is about 0.1%)."""
+    doc = numbers(cell)
+    if len(doc) < 3 or abs(doc[0][0] - point) > 0.5 * doc[0][1] + 1e-9:
+        return False
+
+    def quantile(q):
+        h = (len(draws) - 1) * q
+        lo = math.floor(h)
+        return draws[lo] + (h - lo) * (draws[min(lo + 1, len(draws) - 1)] - draws[lo])
+
+    for (d, unit), q in zip(doc[1:3], (0.025, 0.975)):
+        low, high = quantile(q - 0.005), quantile(q + 0.005)
+        if not low - tolerance - 0.5 * unit <= d <= high + tolerance + 0.5 * unit:
+            return False
+    return True
 
 
 def bootstrap_interval(values, stat, reps=20_000, seed=0):
@@ -633,9 +666,13 @@ def check_table(kind, opts, header, body):
             if not m:
                 raise SystemExit(f"versus: row spec {spec!r} is not GROUP>OTHER@BUDGET:W")
             x, window = parse_samples(m.group(3)), int(m.group(4))
+            # max=SAMPLES: every run read up to it, as `logo summary --max-samples`.
+            limit = {None: math.inf, "budget": x}.get(opts.get("max")) or parse_samples(opts["max"])
             at = lambda group: [
-                v for v in (window_at(evaluations(rows), x, window) for rows in group_runs(group))
-                if v is not None
+                v for v in (
+                    window_at([p for p in evaluations(rows) if p[0] <= limit], x, window)
+                    for rows in group_runs(group)
+                ) if v is not None
             ]
             xs, ys = at(m.group(1)), at(m.group(2))
             compare(r, 3, str(len(xs)))
@@ -644,8 +681,6 @@ def check_table(kind, opts, header, body):
             cells = [
                 (2, lambda u, v: iqm(u), lambda: bootstrap_interval(xs, iqm), 0.05 * spread),
                 (4, lambda u, v: iqm(v), lambda: bootstrap_interval(ys, iqm), 0.05 * spread),
-                (6, probability_of_improvement,
-                 lambda: bootstrap_two(xs, ys, probability_of_improvement), 0.05),
                 (7, lambda u, v: iqm(u) - iqm(v),
                  lambda: bootstrap_two(xs, ys, lambda u, v: iqm(u) - iqm(v)), 0.05 * spread),
             ]
@@ -654,6 +689,13 @@ def check_table(kind, opts, header, body):
                 checked += 1
                 if not interval_agrees(row[c], point, (lo, hi), tolerance):
                     wrong.append((r + 1, header[c], row[c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
+            # P moves in steps of 1/(pairs): its ends are checked against a band of quantiles.
+            draws = bootstrap_two_draws(xs, ys, probability_of_improvement)
+            point = probability_of_improvement(xs, ys)
+            checked += 1
+            if not band_agrees(row[6], point, draws, 0.0):
+                lo, hi = percentile_interval(draws)
+                wrong.append((r + 1, header[6], row[6], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
             # The verdict, from the difference's interval as printed: ahead or behind when
             # it excludes 0, level when it holds 0 and is narrower than ±1000, else
             # unresolved; "suggests" where either side has fewer than 5 seeds.

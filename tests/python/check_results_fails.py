@@ -181,6 +181,8 @@ def main():
         "a wrong reference IQM": VERSUS.replace("8994 [", "8894 ["),
         "a wrong reference seed count": VERSUS.replace("| 5 | 0.52", "| 4 | 0.52"),
         "a verdict the interval does not support": VERSUS.replace("| unresolved |", "| level |"),
+        "a P interval end outside the bootstrap's band": VERSUS.replace("[0.00, 0.88]", "[0.00, 0.60]"),
+        "rows read up to the budget, the cells not": VERSUS.replace("check versus rows", "check versus max=budget rows"),
         "a wrong difference interval": VERSUS.replace("[−4092, 3996]", "[−4092, −100]"),
         "a wrong setting": CONFIG.replace("| 0.01 |", "| 0.2 |"),
         "a setting the file lacks": CONFIG.replace("[guidance] delta0", "[guidance] delta"),
