@@ -244,16 +244,29 @@ impl TrainConfig {
     /// a table is laid over the file's table key by key (`guidance = { delta0 = 0.1 }`
     /// changes δ_0 alone).
     pub fn load_with(path: &Path, overrides: toml::Table) -> Result<Self, ConfigError> {
+        Self::load_edited(path, overrides, &[])
+    }
+
+    /// [`Self::load_with`], with the top-level keys `removed` taken out of the file first
+    /// (`guidance`: the improvement step alone).
+    pub fn load_edited(
+        path: &Path,
+        overrides: toml::Table,
+        removed: &[&str],
+    ) -> Result<Self, ConfigError> {
         let err = |message: String| ConfigError {
             path: path.to_path_buf(),
             message,
         };
         let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
         let base = path.parent().unwrap_or(Path::new("."));
-        if overrides.is_empty() {
+        if overrides.is_empty() && removed.is_empty() {
             return Self::parse(&text, path, base);
         }
         let mut table: toml::Table = toml::from_str(&text).map_err(|e| err(one_line(&e)))?;
+        for key in removed {
+            table.remove(*key);
+        }
         lay_over(&mut table, overrides);
         Self::from_table(table, path, base)
     }
@@ -346,6 +359,13 @@ impl TrainConfig {
 
     /// Every value a file can get wrong; the message names the key.
     pub fn validate(&self) -> Result<(), String> {
+        self.check_sizes()?;
+        self.check_values()?;
+        self.check_combinations()
+    }
+
+    /// Counts: at least 1, and at most what a machine can hold.
+    fn check_sizes(&self) -> Result<(), String> {
         let positive = [
             ("iterations", self.iterations),
             ("samples_per_iter", self.samples_per_iter),
@@ -376,6 +396,11 @@ impl TrainConfig {
         if let Some((key, value, max)) = at_most.iter().find(|(_, v, max)| v > max) {
             return Err(format!("{key} must be at most {max}, got {value}"));
         }
+        Ok(())
+    }
+
+    /// Each value on its own: envs, ranges, the tables' own checks, files.
+    fn check_values(&self) -> Result<(), String> {
         self.env.validate("env")?;
         if let Some(env) = &self.eval_env {
             env.validate("eval_env")?;
@@ -402,13 +427,21 @@ impl TrainConfig {
         }
         if let Some(g) = &self.guidance {
             g.validate()?;
-            if g.decay_on == DecaySignal::Success && self.success == SuccessRule::None {
-                return Err(
-                    "guidance.decay_on = \"success\" needs a success rule: success = \"task\" \
-                     or \"terminated\", not \"none\""
-                        .into(),
-                );
-            }
+        }
+        Ok(())
+    }
+
+    /// Settings that cannot go together.
+    fn check_combinations(&self) -> Result<(), String> {
+        if let Some(g) = &self.guidance
+            && g.decay_on == DecaySignal::Success
+            && self.success == SuccessRule::None
+        {
+            return Err(
+                "guidance.decay_on = \"success\" needs a success rule: success = \"task\" \
+                 or \"terminated\", not \"none\""
+                    .into(),
+            );
         }
         // A policy file (a reference `.pt`) was trained on raw observations.
         let behaviour = self
@@ -470,6 +503,23 @@ impl TrainConfig {
     pub fn guidance_critic(&self) -> Option<&CriticConfig> {
         let g = self.guidance.as_ref()?;
         Some(g.critic.as_ref().unwrap_or(&self.critic))
+    }
+
+    /// The config with the choices that default to another table's written out: the
+    /// guidance step's `update` and `critic` (`[improvement]`'s and `[critic]`'s) and the
+    /// float type (`dtype`, as the engine flags resolved it). It trains as `self` does.
+    pub fn resolved(mut self, dtype: FloatType) -> Self {
+        self.dtype = Some(dtype);
+        if let Some(g) = self.guidance.as_mut() {
+            g.update.get_or_insert_with(|| self.improvement.clone());
+            g.critic.get_or_insert_with(|| self.critic.clone());
+        }
+        self
+    }
+
+    /// The config as a TOML file (every field, defaults included; absent options left out).
+    pub fn to_toml(&self) -> Result<String, toml::ser::Error> {
+        toml::to_string(self)
     }
 
     /// What the run trains, as `metrics.csv` and the logs name it: "TRPO", "LOGO",

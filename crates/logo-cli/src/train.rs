@@ -89,6 +89,10 @@ pub struct TrainArgs {
     /// iteration: `tensorboard --logdir runs/`).
     #[arg(long)]
     no_tensorboard: bool,
+    /// Print the config with every default filled in (and --seed, --iterations, --threads
+    /// and --dtype laid over it), as the run would use it, and exit without training.
+    #[arg(long, conflicts_with = "resume")]
+    print_config: bool,
     #[command(flatten)]
     engine: EngineArgs,
 }
@@ -171,6 +175,11 @@ pub fn run(args: &TrainArgs) -> Result<()> {
             config
                 .check_eval_env_dims()
                 .map_err(|e| anyhow::anyhow!("{}: {e}", config_path.display()))?;
+            if args.print_config {
+                let dtype = args.engine.for_config(&config).dtype().into();
+                print!("{}", config.resolved(dtype).to_toml()?);
+                return Ok(());
+            }
             let out = (args.out.clone()).unwrap_or_else(|| default_out(config_path, config.seed));
             Start::New(Box::new(config), out)
         }

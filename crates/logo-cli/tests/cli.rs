@@ -842,3 +842,55 @@ fn a_sparse_kind_of_the_config_is_evaluated_and_resumed_as_trained() {
     cli().succeed(&["train", "--resume", &run, "--iterations", "3"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn print_config_fills_every_default_and_trains_as_the_config_does() {
+    let (dir, config) = tiny_run("print-config");
+    let printed = cli().succeed(&[
+        "train",
+        "--config",
+        config.to_str().unwrap(),
+        "--print-config",
+        "--seed",
+        "4",
+    ]);
+    let table: toml::Table = printed.parse().unwrap_or_else(|e| panic!("{printed}: {e}"));
+    // Defaults the file left out, the flag laid over it, the guidance step's own tables.
+    assert_eq!(table["seed"].as_integer(), Some(4), "{printed}");
+    assert_eq!(table["gamma"].as_float(), Some(0.99), "{printed}");
+    assert_eq!(table["dtype"].as_str(), Some("f64"), "{printed}");
+    let guidance = table["guidance"].as_table().unwrap();
+    assert_eq!(
+        guidance["discriminator_steps"].as_integer(),
+        Some(1),
+        "{printed}"
+    );
+    assert_eq!(
+        guidance["update"]["kind"].as_str(),
+        Some("trpo"),
+        "{printed}"
+    );
+    assert!(guidance.contains_key("critic"), "{printed}");
+    // Nothing was trained, and the printed config trains to the same numbers.
+    assert!(!Path::new("runs/tiny-seed4").exists());
+    let resolved = dir.join("resolved.toml");
+    std::fs::write(&resolved, &printed).unwrap();
+    let train = |config: &Path, name: &str| {
+        let out = dir.join(name);
+        cli().succeed(&[
+            "train",
+            "--config",
+            config.to_str().unwrap(),
+            "--seed",
+            "4",
+            "--out",
+            out.to_str().unwrap(),
+            "--no-tensorboard",
+        ]);
+        metrics_without_timings(&out)
+    };
+    assert_eq!(
+        train(&config, "from-file"),
+        train(&resolved, "from-printed")
+    );
+}

@@ -285,16 +285,28 @@ fn a_sweep_skips_resumes_reports_failures_and_plots() {
         let seeds: Vec<Vec<Vec<String>>> = (0..runs)
             .map(|s| rows(&out.join(name).join(format!("seed{s}"))))
             .collect();
+        // Columns by name: metrics.csv gains columns over time.
+        let header = std::fs::read_to_string(out.join(name).join("seed0/metrics.csv")).unwrap();
+        let index = |column: &str| {
+            header
+                .lines()
+                .next()
+                .unwrap()
+                .split(',')
+                .position(|c| c == column)
+                .unwrap()
+        };
+        let (samples, eval) = (index("samples"), index("eval_dense_return"));
         let col = |r: &Vec<String>, i: usize| r[i].parse::<f64>().unwrap();
         // Both runs' first evaluation is at their first iteration; the grid starts at
         // the later of the two first sample counts.
         let firsts: Vec<(f64, f64)> = seeds
             .iter()
-            .map(|s| (col(&s[0], 1), col(&s[0], 6)))
+            .map(|s| (col(&s[0], samples), col(&s[0], eval)))
             .collect();
         let lasts: Vec<(f64, f64)> = seeds
             .iter()
-            .map(|s| (col(&s[1], 1), col(&s[1], 6)))
+            .map(|s| (col(&s[1], samples), col(&s[1], eval)))
             .collect();
         let start = firsts[0].0.max(firsts[1].0);
         let end = lasts[0].0.min(lasts[1].0);

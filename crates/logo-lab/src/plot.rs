@@ -234,6 +234,26 @@ pub fn curves(runs: &[Run], window: usize, points: usize, band: &Band) -> Result
     Ok(out)
 }
 
+/// The runs to draw with their bands (the runs found, and each outside label of several
+/// seeds: a folder, or CSVs given one label, drawn as a configuration is), cut at
+/// `--max-samples`; and the outside curves of one CSV, drawn as lines.
+fn runs_and_lines(
+    selection: &RunSelection,
+    metric: &Metric,
+) -> Result<(Vec<Run>, Vec<ExternalSpec>)> {
+    let externals = &selection.externals;
+    let seeds_of = |label: &str| externals.iter().filter(|s| s.label == label).count();
+    let (seeded, single): (Vec<ExternalSpec>, Vec<ExternalSpec>) = externals
+        .iter()
+        .cloned()
+        .partition(|spec| spec.path.is_dir() || seeds_of(&spec.label) > 1);
+    let mut runs = with_external_runs(selection.discover(metric)?, &seeded)?;
+    if let Some(max_samples) = selection.max_samples {
+        up_to(&mut runs, max_samples)?;
+    }
+    Ok((runs, single))
+}
+
 /// The LOGO paper's behaviour and expert levels (docs/reference.md, Figure 1) by env.
 fn paper_lines(env: &str) -> Option<[(String, f64); 2]> {
     let name = logo_envs::dense_id(env);
@@ -256,18 +276,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         log10: args.log10,
     };
     let selection = &args.selection;
-    // An outside label of several seeds (a folder, or CSVs given one label) is drawn as a
-    // configuration is, with its band; a label of one CSV as a line.
-    let externals = &selection.externals;
-    let seeds_of = |label: &str| externals.iter().filter(|s| s.label == label).count();
-    let (seeded, single): (Vec<ExternalSpec>, Vec<ExternalSpec>) = externals
-        .iter()
-        .cloned()
-        .partition(|spec| spec.path.is_dir() || seeds_of(&spec.label) > 1);
-    let mut runs = with_external_runs(selection.discover(&metric)?, &seeded)?;
-    if let Some(max_samples) = selection.max_samples {
-        up_to(&mut runs, max_samples)?;
-    }
+    let (runs, single) = runs_and_lines(selection, &metric)?;
     ensure!(
         !(args.stat == Stat::Iqm && args.band == BandKind::Std),
         "--stat iqm goes with --band ci: a std band is drawn around the mean"

@@ -1,0 +1,122 @@
+//! docs/config.md lists every config key: each of its sections against the keys the
+//! config types accept, as serde's unknown-field error names them (so a field added to a
+//! config struct without its row in the page, or a row left behind by a removed field,
+//! fails here).
+
+use std::collections::BTreeSet;
+
+use logo_algo::config::TrainConfig;
+
+/// Enough of a config to reach the table under test (its env given by the section's
+/// TOML where that is an `[env]` table).
+const BASE: &str = "iterations = 1\nsamples_per_iter = 1000\n";
+const ENV: &str = "env = \"SparseHopper-v4\"\n";
+const GUIDANCE: &str = "[guidance]\ndemos = \"d\"\ndelta0 = 0.1\nalpha = 0.9\nwarmup = 1\n";
+
+/// Each section of the page (its heading after `## `), the TOML that puts an unknown key
+/// into that table, and the tag key the section's kind is chosen by (not a struct field).
+const SECTIONS: &[(&str, &str, Option<&str>)] = &[
+    ("top level", "unknown_key = 1\n", None),
+    (
+        "`[env]`",
+        "[env]\nid = \"Hopper-v4\"\nunknown_key = 1\n",
+        None,
+    ),
+    (
+        "`[env.sparse]`",
+        "[env]\nid = \"Hopper-v4\"\n[env.sparse]\nkind = \"delayed\"\nunknown_key = 1\n",
+        None,
+    ),
+    ("`[critic]`", "[critic]\nunknown_key = 1\n", None),
+    (
+        "`[critic.fit]`, `method = \"lbfgs\"`",
+        "[critic.fit]\nmethod = \"lbfgs\"\nunknown_key = 1\n",
+        Some("method"),
+    ),
+    (
+        "`[critic.fit]`, `method = \"adam\"`",
+        "[critic.fit]\nmethod = \"adam\"\nunknown_key = 1\n",
+        Some("method"),
+    ),
+    (
+        "`[improvement]`, `kind = \"trpo\"` or `\"clip-in-trpo\"`",
+        "[improvement]\nkind = \"trpo\"\nunknown_key = 1\n",
+        Some("kind"),
+    ),
+    (
+        "`[improvement]`, `kind = \"ppo-clip\"`",
+        "[improvement]\nkind = \"ppo-clip\"\nunknown_key = 1\n",
+        Some("kind"),
+    ),
+    (
+        "`[improvement]`, `kind = \"ppo-penalty\"`",
+        "[improvement]\nkind = \"ppo-penalty\"\nunknown_key = 1\n",
+        Some("kind"),
+    ),
+    ("`[guidance]`", "unknown_key = 1\n", None),
+];
+
+/// The keys a table accepts: the backquoted names after "expected" in serde's error.
+fn accepted(extra: &str, guidance: bool) -> BTreeSet<String> {
+    let env = if extra.starts_with("[env]") { "" } else { ENV };
+    let text = if guidance {
+        format!("{BASE}{env}{GUIDANCE}{extra}")
+    } else {
+        format!("{BASE}{env}{extra}")
+    };
+    let error = toml::from_str::<TrainConfig>(&text)
+        .expect_err("an unknown key must be refused")
+        .to_string();
+    let (_, listed) = error
+        .split_once("expected")
+        .unwrap_or_else(|| panic!("no field list in {error:?}"));
+    let keys: BTreeSet<String> = listed
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect();
+    assert!(!keys.is_empty(), "no field list in {error:?}");
+    keys
+}
+
+/// The keys documented in the table under `## heading` (first column, backquoted).
+fn documented(page: &str, heading: &str) -> BTreeSet<String> {
+    let start = page
+        .lines()
+        .position(|l| l.strip_prefix("## ") == Some(heading))
+        .unwrap_or_else(|| panic!("docs/config.md has no section `## {heading}`"));
+    page.lines()
+        .skip(start + 1)
+        .take_while(|l| !l.starts_with("## "))
+        .filter_map(|l| l.strip_prefix("| `"))
+        .filter_map(|l| l.split_once('`').map(|(key, _)| key.to_string()))
+        .collect()
+}
+
+#[test]
+fn every_config_key_has_its_row_in_docs_config_md() {
+    let page = std::fs::read_to_string(logo_testkit::workspace().join("docs/config.md"))
+        .expect("docs/config.md");
+    for &(heading, extra, tag) in SECTIONS {
+        let mut want = accepted(extra, heading == "`[guidance]`");
+        if let Some(tag) = tag {
+            want.insert(tag.to_string());
+        }
+        assert_eq!(
+            documented(&page, heading),
+            want,
+            "docs/config.md, section `{heading}`: its rows against the keys the config accepts"
+        );
+    }
+}
+
+#[test]
+fn the_check_sees_a_key_missing_from_the_page() {
+    let page = "## top level\n\n| key |\n| --- |\n| `env` | x |\n";
+    assert_eq!(
+        documented(page, "top level"),
+        BTreeSet::from(["env".to_string()])
+    );
+    assert!(accepted("unknown_key = 1\n", false).len() > 20);
+}
