@@ -49,6 +49,12 @@ fn bool_datatype() -> Datatype {
 /// A gymnasium `Box` space serialised as minari does (a JSON string; unbounded limits
 /// are Python's `Infinity` tokens).
 pub fn box_space(low: &[f64], high: &[f64]) -> String {
+    typed_box_space(low, high, "float64")
+}
+
+/// [`box_space`] of the given NumPy dtype (`"float32"`: as an env declares its space; the
+/// dataset's arrays stay float64).
+pub fn typed_box_space(low: &[f64], high: &[f64], dtype: &str) -> String {
     let list = |v: &[f64]| {
         v.iter()
             .map(|x| match *x {
@@ -60,7 +66,7 @@ pub fn box_space(low: &[f64], high: &[f64]) -> String {
             .join(", ")
     };
     format!(
-        "{{\"type\": \"Box\", \"dtype\": \"float64\", \"shape\": [{}], \"low\": [{}], \"high\": [{}]}}",
+        "{{\"type\": \"Box\", \"dtype\": \"{dtype}\", \"shape\": [{}], \"low\": [{}], \"high\": [{}]}}",
         low.len(),
         list(low),
         list(high)

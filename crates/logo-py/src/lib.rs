@@ -9,6 +9,7 @@ mod env;
 mod errors;
 mod minari;
 mod policy;
+mod presets;
 mod python_env;
 mod train;
 mod vector;
@@ -25,6 +26,10 @@ fn _logo_rl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(train::train, m)?)?;
     m.add_function(wrap_pyfunction!(train::default_run_dir, m)?)?;
     m.add_function(wrap_pyfunction!(minari::write_dataset, m)?)?;
+    m.add_function(wrap_pyfunction!(minari::read_dataset, m)?)?;
+    m.add_function(wrap_pyfunction!(presets::presets, m)?)?;
+    m.add_function(wrap_pyfunction!(presets::preset_text, m)?)?;
+    m.add_function(wrap_pyfunction!(presets::preset_data, m)?)?;
     m.add("LogoError", m.py().get_type::<LogoError>())?;
     m.add("MUJOCO_VERSION", "3.17.0")?;
     m.add("EXTERNAL_PREFIX", logo_envs::EXTERNAL_PREFIX)?;

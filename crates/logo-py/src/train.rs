@@ -27,9 +27,10 @@ impl Console for PythonConsole {
     fn say(&mut self, line: &str) {
         if self.raised.is_some() {
             // Stopping: the lines that remain go where the caller can still see them.
-            eprintln!("{line}");
+            eprintln!("{}", crate::errors::in_python_words(line));
             return;
         }
+        let line = crate::errors::in_python_words(line);
         if let Err(e) = Python::attach(|py| self.say.call1(py, (line,))) {
             self.raised = Some(e);
         }
@@ -68,19 +69,48 @@ fn choice<T: ValueEnum>(key: &str, value: Option<&str>) -> PyResult<Option<T>> {
 /// `TrainConfig::load_with` reads a file: from `path` with the table laid over it, or the
 /// table alone (`origin` names it in errors, relative paths are taken from `base`).
 fn config(path: Option<PathBuf>, table_json: &str, base: PathBuf) -> PyResult<TrainConfig> {
-    let json: serde_json::Value = serde_json::from_str(table_json)
+    let mut json: serde_json::Value = serde_json::from_str(table_json)
         .map_err(|e| PyValueError::new_err(format!("config keys: {e}")))?;
+    // A top-level None takes the key out of the config (guidance=None: TRPO alone).
+    let mut removed = Vec::new();
+    if let Some(map) = json.as_object_mut() {
+        map.retain(|key, value| {
+            if value.is_null() {
+                removed.push(key.clone());
+            }
+            !value.is_null()
+        });
+    }
+    let removed: Vec<&str> = removed.iter().map(String::as_str).collect();
     let table: toml::Table = toml::Value::try_from(json)
         .ok()
         .and_then(|v| v.as_table().cloned())
         .ok_or_else(|| {
             PyValueError::new_err("config keys: a TOML table (no None values) was expected")
         })?;
-    let loaded = match path {
-        Some(path) => TrainConfig::load_with(&path, table),
-        None => TrainConfig::from_table(table, &PathBuf::from("<config dict>"), &base),
+    let loaded = match &path {
+        Some(path) => TrainConfig::load_edited(path, table.clone(), &removed).map_err(|e| {
+            // Where the file alone is a good config, the call's keyword arguments are what
+            // is wrong: say so, rather than blame the file.
+            if (table.is_empty() && removed.is_empty()) || TrainConfig::load(path).is_err() {
+                return e.to_string();
+            }
+            let keys: Vec<&str> = table
+                .keys()
+                .map(String::as_str)
+                .chain(removed.iter().copied())
+                .collect();
+            format!(
+                "the keyword arguments ({}) laid over {}: {}",
+                keys.join(", "),
+                path.display(),
+                e.message
+            )
+        }),
+        None => TrainConfig::from_table(table, &PathBuf::from("<config dict>"), &base)
+            .map_err(|e| e.to_string()),
     };
-    loaded.map_err(|e| crate::errors::LogoError::new_err(e.to_string()))
+    loaded.map_err(crate::errors::LogoError::new_err)
 }
 
 /// Runs `logo train` in this process, with the GIL released, and returns the run folder.

@@ -74,6 +74,10 @@ def test_success_is_the_tasks_and_none_where_it_defines_none(tmp_path, demos):
     assert n == 20 and summary["success_rate"] == k / n
 
 
+def left_of_the_valley(obs, info):
+    return obs[0] < -0.55
+
+
 def test_a_python_envs_is_success_is_honoured(tmp_path, demos):
     import gymnasium as gym
 
@@ -82,7 +86,7 @@ def test_a_python_envs_is_success_is_honoured(tmp_path, demos):
 
         def step(self, action):
             obs, reward, terminated, truncated, info = self.env.step(action)
-            return obs, reward, terminated, truncated, {**info, "is_success": obs[0] < -0.55}
+            return obs, reward, terminated, truncated, {**info, "is_success": left_of_the_valley(obs, info)}
 
     make = lambda: LeftOfTheValley(gym.make(TASK))  # noqa: E731
     run = logo_rl.train(
@@ -103,3 +107,21 @@ def test_a_python_envs_is_success_is_honoured(tmp_path, demos):
                 break
     assert reached == [hits, 20]
     assert 0 < hits < 20, "the rule must see both outcomes to be tested"
+    # The same rule given as a predicate: the same run, the same count.
+    judged = logo_rl.train(
+        PRESET, env=TASK, demos=demos, iterations=1, samples_per_iter=1000, seed=0,
+        eval_episodes=1, progress=False, tensorboard=False, out=tmp_path / "predicate",
+        success=left_of_the_valley,
+    )
+    assert judged.eval["policies"]["final"]["mean_action"]["summary"]["reached"] == reached
+
+
+def test_a_success_predicate_needs_a_python_env_and_a_bool():
+    with pytest.raises(ValueError, match="give env= too"):
+        logo_rl.train(PRESET, success=left_of_the_valley, progress=False)
+    import gymnasium as gym
+
+    env = logo_rl.Success(gym.make(TASK), lambda obs, info: obs)
+    env.reset(seed=0)
+    with pytest.raises(TypeError, match="expected a bool"):
+        env.step(np.array([0.0]))

@@ -133,7 +133,7 @@ def test_bad_input_is_a_python_exception(tmp_path):
         logo_rl.train(IDP_CONFIG, dtype="f16", out=tmp_path / "c", progress=False)
     with pytest.raises(ValueError, match="drop config"):
         logo_rl.train(IDP_CONFIG, resume=tmp_path / "c")
-    with pytest.raises(logo_rl.LogoError, match="--resume"):
+    with pytest.raises(logo_rl.LogoError, match="resume="):
         logo_rl.train(resume=tmp_path / "no-run", progress=False)
     with pytest.raises(TypeError, match="not a TOML value"):
         logo_rl.train(IDP_CONFIG, seed=object(), out=tmp_path / "d", progress=False)

@@ -31,24 +31,30 @@ _os.environ.setdefault("LOGO_MODELS_DIR", _models_dir())
 from ._logo_rl import MUJOCO_VERSION, LogoError, __version__, env_ids  # noqa: E402
 from .envs import LogoEnv, register_envs  # noqa: E402
 from .policy import Policy, load  # noqa: E402
-from .record import record  # noqa: E402
+from .presets import presets  # noqa: E402
+from .record import Dataset, Recording, read_dataset, record  # noqa: E402
 from .run import Run, train  # noqa: E402
 from .vector import LogoVectorEnv  # noqa: E402
-from .wrappers import SparseReward  # noqa: E402
+from .wrappers import SparseReward, Success  # noqa: E402
 
 register_envs()
 
 __all__ = [
+    "Dataset",
     "LogoEnv",
     "LogoError",
     "LogoVectorEnv",
     "MUJOCO_VERSION",
     "Policy",
+    "Recording",
     "Run",
     "SparseReward",
+    "Success",
     "__version__",
     "env_ids",
     "load",
+    "presets",
+    "read_dataset",
     "record",
     "register_envs",
     "train",

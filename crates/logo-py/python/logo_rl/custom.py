@@ -44,6 +44,11 @@ class _Adapter:
 
     def step(self, action: np.ndarray):
         obs, reward, terminated, truncated, info = self.env.step(action)
+        if np.ndim(reward) != 0:
+            raise TypeError(
+                f"{self.name}: step returned the reward {reward!r} of shape {np.shape(reward)}; "
+                "a reward is one number (return float(reward))"
+            )
         reward = float(reward)
         if not np.isfinite(reward):
             raise ValueError(f"{self.name}: step returned the reward {reward}")
@@ -125,17 +130,38 @@ def prepare(env: str | Callable[[], gym.Env]) -> tuple[Callable[[], _Adapter], d
     return (lambda: _Adapter(make(), name, obs_dim)), spec
 
 
+def _looks_like_a_path(text: str) -> bool:
+    """Whether `text`, which names nothing on disk, was meant as a path rather than a
+    Minari id (`name`, `namespace/name-v0`): a leading slash, dot or tilde, or a file
+    suffix."""
+    return text.startswith(("/", ".", "~")) or text.endswith((".npy", ".hdf5")) or "\\" in text
+
+
 def demos_path(demos: Any, out: Path, obs_dim: int, act_dim: int) -> str:
     """A path the Rust side reads for `demos`: a Minari dataset folder (its path, its local
     id, or the dataset object) as it is, a list of trajectories written as LOGO's `.npy`
     rows ``[observation ‖ action]`` into the run folder."""
     if isinstance(demos, (str, os.PathLike)) and Path(demos).exists():
         return str(Path(demos).resolve())
+    if isinstance(demos, os.PathLike) or (isinstance(demos, str) and _looks_like_a_path(demos)):
+        raise FileNotFoundError(f"demos={os.fspath(demos)!r}: no such file or folder")
     if isinstance(demos, str) or hasattr(demos, "storage"):
         if isinstance(demos, str):
-            import minari
-
-            demos = minari.load_dataset(demos)
+            # Not a path here: a Minari id, looked up among Minari's local datasets.
+            try:
+                import minari
+            except ImportError:
+                raise FileNotFoundError(
+                    f"demos={demos!r}: no such file or folder (nor a Minari dataset id: the "
+                    "minari package, which would look one up, is not installed)"
+                ) from None
+            try:
+                demos = minari.load_dataset(demos)
+            except Exception as error:  # minari's own error names what it looked for
+                raise FileNotFoundError(
+                    f"demos={demos!r}: no such file or folder, nor a local Minari dataset "
+                    f"({error})"
+                ) from None
         return str(Path(demos.storage.data_path).resolve().parent)
     if isinstance(demos, (list, tuple)):
         rows = []

@@ -2,15 +2,39 @@
 
 from __future__ import annotations
 
+import json
 import os
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
+from ._logo_rl import read_dataset as _read_dataset
 from ._logo_rl import write_dataset
 from .custom import PREFIX, prepare
 from .policy import Policy
+
+
+@dataclass(frozen=True)
+class Recording:
+    """What :func:`record` wrote: the dataset folder (``train(demos=...)`` takes this object
+    as it takes the path; ``recording / "data"`` is Minari's folder) and its episodes."""
+
+    path: Path
+    episodes: int
+    steps: int
+    returns: np.ndarray  # each episode's return, in the env's own reward
+    success_rate: float | None  # the share reaching the goal (info["is_success"]); None without one
+
+    def __fspath__(self) -> str:
+        return os.fspath(self.path)
+
+    def __truediv__(self, other) -> Path:
+        return self.path / other
+
+    def __str__(self) -> str:
+        return str(self.path)
 
 
 def record(
@@ -22,12 +46,15 @@ def record(
     dataset_id: str | None = None,
     seed: int = 0,
     deterministic: bool = False,
-) -> Path:
+) -> Recording:
     """Plays ``episodes`` episodes of ``env`` (a Gymnasium id or a callable returning a new
     env) with ``act`` and writes them as a Minari dataset folder at ``path``
     (``path/data/main_data.hdf5`` and ``metadata.json``, as Minari lays out a dataset;
-    ``minari.MinariDataset(path / "data")`` reads it); returns ``path``, which
-    :func:`logo_rl.train` takes as ``demos=``.
+    ``minari.MinariDataset(path / "data")`` reads it, and so does logo-rl without
+    minari); returns a :class:`Recording` (the path, the episodes, steps, returns and the
+    success rate where the env reports ``info["is_success"]``), which
+    :func:`logo_rl.train` takes as ``demos=``. The dataset's metadata holds the same
+    summary, and the spaces as the env declares them.
 
     ``act``: a :class:`logo_rl.Policy` (sampled actions, as LOGO's demonstrations were
     recorded, unless ``deterministic``) or any callable from an observation to an action
@@ -42,14 +69,18 @@ def record(
     if isinstance(act, Policy):
         policy = act
         act = lambda obs: policy.predict(obs, deterministic=deterministic, rng=rng)  # noqa: E731
-    played = []
+    played, reached = [], []
+    observation_space, action_space = adapter.env.observation_space, adapter.env.action_space
     try:
         for k in range(episodes):
             obs, _ = adapter.reset(seed + k)
             observations, actions, rewards, terminations, truncations = [obs], [], [], [], []
+            episode_reached = None
             while True:
                 action = np.asarray(act(obs), dtype=np.float64).reshape(-1)
-                obs, reward, terminated, truncated, _, _, _ = adapter.step(action)
+                obs, reward, terminated, truncated, _, _, success = adapter.step(action)
+                if success is not None:
+                    episode_reached = bool(episode_reached) or success
                 observations.append(obs)
                 actions.append(action)
                 rewards.append(reward)
@@ -61,15 +92,61 @@ def record(
                 np.array(observations), np.array(actions), np.array(rewards),
                 terminations, truncations,
             ))
+            reached.append(episode_reached)
     finally:
         adapter.close()
+    returns = np.array([float(np.sum(episode[2])) for episode in played])
+    judged = [r for r in reached if r is not None]
+    success_rate = sum(judged) / len(judged) if judged else None
     path = Path(path)
+    summary = {
+        "return_mean": float(returns.mean()),
+        "return_std": float(returns.std(ddof=1)) if len(returns) > 1 else 0.0,
+        "return_min": float(returns.min()),
+        "return_max": float(returns.max()),
+        "success_rate": success_rate,
+    }
     write_dataset(
         path, played,
         dataset_id=dataset_id or f"logo_rl/{path.name}-v0",
         # The env's own name (a Gymnasium id where one was given): what a config of
         # logo-rl's envs compares with the dataset's env.
         env_id=spec["id"].removeprefix(PREFIX),
-        action_low=spec["action_low"], action_high=spec["action_high"],
+        observation_space=_box(observation_space), action_space=_box(action_space),
+        summary_json=json.dumps(summary),
     )
-    return path
+    steps = sum(len(episode[1]) for episode in played)
+    return Recording(path, len(played), steps, returns, success_rate)
+
+
+def _box(space) -> tuple[list[float], list[float], str]:
+    """A Box space's bounds and dtype, as the env declares them."""
+    return (
+        [float(v) for v in np.asarray(space.low, dtype=np.float64).reshape(-1)],
+        [float(v) for v in np.asarray(space.high, dtype=np.float64).reshape(-1)],
+        str(np.dtype(space.dtype)),
+    )
+
+
+@dataclass(frozen=True)
+class Dataset:
+    """A Minari dataset folder as logo-rl reads it (no ``minari`` package needed)."""
+
+    episodes: list[dict[str, Any]]  # observations, actions, rewards, terminations, truncations
+    metadata: dict[str, Any]  # metadata.json; a recording's summary under "logo_recording"
+
+    @property
+    def total_episodes(self) -> int:
+        return len(self.episodes)
+
+    @property
+    def total_steps(self) -> int:
+        return sum(len(e["actions"]) for e in self.episodes)
+
+
+def read_dataset(path: str | os.PathLike) -> Dataset:
+    """Reads a Minari dataset folder (one :func:`record` wrote, or ``data/logo/hopper``)
+    as the trainer does; a folder that does not exist raises FileNotFoundError."""
+    episodes, metadata = _read_dataset(Path(path))
+    keys = ("observations", "actions", "rewards", "terminations", "truncations")
+    return Dataset([dict(zip(keys, e)) for e in episodes], json.loads(metadata))

@@ -8,6 +8,7 @@ import os
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
+import gymnasium as gym
 import numpy as np
 
 try:
@@ -18,6 +19,7 @@ except ModuleNotFoundError:  # Python 3.10
 from . import _logo_rl
 from .custom import PREFIX, demos_path, prepare
 from .policy import Policy
+from .presets import preset_path
 
 
 class Run:
@@ -91,10 +93,12 @@ def train(
 ) -> Run:
     """Trains as ``logo train --config CONFIG`` does and returns the :class:`Run`.
 
-    ``config``: a TOML file of ``configs/`` or a dict of the same keys (its relative paths
-    are taken from the working directory). ``overrides`` replace the config's keys
+    ``config``: a preset's name (``"new-task"``, ``"logo/hopper"``: :func:`logo_rl.presets`
+    lists them; no repository needed), a TOML file, or a dict of the same keys (its
+    relative paths are taken from the working directory); every key: docs/config.md. ``overrides`` replace the config's keys
     (``seed=3``, ``samples_per_iter=2000``); a dict value is laid over the config's table
-    of that name key by key (``guidance={"delta0": 0.1}``). ``resume``: continue the run
+    of that name key by key (``guidance={"delta0": 0.1}``); ``guidance=None`` takes LOGO's
+    guidance out, leaving the improvement step alone (plain TRPO from a LOGO config). ``resume``: continue the run
     in that folder instead (``iterations`` may extend it). ``engine``, ``backend``,
     ``dtype``: as ``logo train``'s flags. ``progress``: print each iteration's line
     (True), stay quiet (False) or hand each line to a callable.
@@ -107,6 +111,12 @@ def train(
     a Minari dataset (its folder, its local id, or the dataset), a ``.npy`` of LOGO's
     ``[observation ‖ action]`` rows, or a list of ``(observations, actions)``
     trajectories (written into the run folder); None keeps the config's.
+
+    ``success``: which episodes reached the goal, counted in ``eval.json`` and read by
+    ``[guidance] decay_on = "success"``. ``"task"`` (the env's ``info["is_success"]``, or
+    a sparse kind's goal), ``"terminated"`` (a task that stops at its goal), ``"none"``,
+    or a callable ``(obs, info) -> bool`` judging each step of ``env=`` (it wraps the env
+    in :class:`logo_rl.Success`; an episode reached the goal if any step did).
 
     Ctrl-C stops the run after the iteration in progress; the run folder then holds that
     iteration's checkpoint (``train(resume=run.path)`` goes on, exactly as the run would
@@ -124,6 +134,19 @@ def train(
         raise TypeError(f"progress={progress!r}: expected True, False or a callable")
     common = dict(say=say, engine=engine, backend=backend, dtype=dtype, tensorboard=tensorboard)
     python_env = None
+    predicate = overrides.get("success")
+    if callable(predicate):
+        # A predicate of the caller's judges a Python env's steps: the env is wrapped and
+        # the run reads its is_success as the task's.
+        if env is None:
+            raise ValueError(
+                "success= as a callable judges the steps of env=: give env= too (a config's "
+                "own env takes success = \"task\", \"terminated\" or \"none\")"
+            )
+        del overrides["success"]
+        env = _judged(env, predicate)
+        if resume is None:
+            overrides["success"] = "task"
     if resume is not None:
         if config is not None or overrides or demos is not None:
             raise ValueError(
@@ -142,7 +165,12 @@ def train(
         )
         return Run(path)
     if config is None:
-        raise ValueError("train needs a config (a TOML file or a dict) or resume=")
+        raise ValueError("train needs a config (a preset, a TOML file or a dict) or resume=")
+    if isinstance(config, str) and not os.path.exists(config):
+        if not config.endswith(".toml"):
+            config = preset_path(config)  # raises, listing the presets, if it is none
+    if "guidance" in overrides and overrides["guidance"] is None and demos is not None:
+        raise ValueError("demos= with guidance=None: without guidance no demonstrations are used")
     table = _absolute_paths(dict(overrides))
     if iterations is not None:
         table["iterations"] = iterations
@@ -176,6 +204,24 @@ def train(
         **common,
     )
     return Run(path)
+
+
+def _judged(env, predicate) -> Any:
+    """`env` (an id or a maker) made with a Success wrapper, under the same name."""
+    from .wrappers import Success
+
+    if isinstance(env, str):
+        make, name = (lambda: gym.make(env)), env
+    elif callable(env) and not isinstance(env, gym.Env):
+        make, name = env, getattr(env, "__name__", type(env).__name__)
+    else:
+        return env  # prepare() says what is wrong with it
+
+    def judged():
+        return Success(make(), predicate)
+
+    judged.__name__ = name
+    return judged
 
 
 def _python_env(env, saved_id: str | None) -> tuple[Callable, dict[str, Any]]:

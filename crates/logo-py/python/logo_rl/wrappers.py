@@ -135,3 +135,27 @@ class SparseReward(gym.Wrapper):
             self._episode_return += float(dense)
             reward = self._episode_return if (terminated or truncated) else 0.0
         return obs, reward, terminated, truncated, info
+
+
+class Success(gym.Wrapper):
+    """Success as you define it: ``info["is_success"] = predicate(obs, info)`` after every
+    step, which the trainer reads as the task's own (``success = "task"``: an episode
+    reached the goal if any of its steps did). ``train(..., success=predicate)`` wraps its
+    ``env=`` in this; wrap the env yourself to resume such a run or to record with it."""
+
+    def __init__(self, env: gym.Env, predicate: Callable[[Any, dict], Any]):
+        super().__init__(env)
+        if not callable(predicate):
+            raise TypeError(f"predicate={predicate!r}: expected a callable (obs, info) -> bool")
+        self._predicate = predicate
+
+    def step(self, action):
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        verdict = self._predicate(obs, info)
+        try:
+            reached = bool(verdict)
+        except (TypeError, ValueError) as error:  # e.g. an array of several values
+            raise TypeError(
+                f"the success predicate returned {verdict!r}, expected a bool"
+            ) from error
+        return obs, reward, terminated, truncated, {**info, "is_success": reached}
