@@ -203,6 +203,16 @@ def first_hit(rows):
     return next((r["samples"] for r in rows if r["train_sparse_return"] > 0), None)
 
 
+def window_values(group, x, n, limit=math.inf):
+    """Each run's mean of its n evaluations nearest x, the run read up to `limit` samples;
+    runs that stop short of x left out."""
+    values = (
+        window_at([p for p in evaluations(rows) if p[0] <= limit], x, n)
+        for rows in group_runs(group)
+    )
+    return [v for v in values if v is not None]
+
+
 def window_at(points, x, n):
     """Mean of the n evaluations nearest x, ties to the later one (`logo summary
     --window`); None if the run stops more than its median spacing short of x."""
@@ -229,13 +239,7 @@ def probability_of_improvement(x, y):
 
 def bootstrap_two(x, y, stat, reps=20_000, seed=0):
     """95% percentile interval of stat(x, y) over independent resamples of x and y."""
-    import random
-    rng = random.Random(seed)
-    draws = (
-        stat([x[rng.randrange(len(x))] for _ in x], [y[rng.randrange(len(y))] for _ in y])
-        for _ in range(reps)
-    )
-    return percentile_interval(draws)
+    return percentile_interval(bootstrap_two_draws(x, y, stat, reps, seed))
 
 
 def bootstrap_two_draws(x, y, stat, reps=20_000, seed=0):
@@ -257,13 +261,8 @@ def band_agrees(cell, point, draws, tolerance):
     if len(doc) < 3 or abs(doc[0][0] - point) > 0.5 * doc[0][1] + 1e-9:
         return False
 
-    def quantile(q):
-        h = (len(draws) - 1) * q
-        lo = math.floor(h)
-        return draws[lo] + (h - lo) * (draws[min(lo + 1, len(draws) - 1)] - draws[lo])
-
     for (d, unit), q in zip(doc[1:3], (0.025, 0.975)):
-        low, high = quantile(q - 0.005), quantile(q + 0.005)
+        low, high = quantile(draws, q - 0.005), quantile(draws, q + 0.005)
         if not low - tolerance - 0.5 * unit <= d <= high + tolerance + 0.5 * unit:
             return False
     return True
@@ -277,16 +276,17 @@ def bootstrap_interval(values, stat, reps=20_000, seed=0):
     return percentile_interval(stat([values[rng.randrange(n)] for _ in range(n)]) for _ in range(reps))
 
 
+def quantile(draws, q):
+    """numpy's linear quantile q of sorted draws."""
+    h = (len(draws) - 1) * q
+    lo = math.floor(h)
+    return draws[lo] + (h - lo) * (draws[min(lo + 1, len(draws) - 1)] - draws[lo])
+
+
 def percentile_interval(draws):
     """The 2.5% and 97.5% quantiles of the bootstrap draws (numpy's linear quantiles)."""
     draws = sorted(draws)
-
-    def quantile(q):
-        h = (len(draws) - 1) * q
-        lo = math.floor(h)
-        return draws[lo] + (h - lo) * (draws[min(lo + 1, len(draws) - 1)] - draws[lo])
-
-    return quantile(0.025), quantile(0.975)
+    return quantile(draws, 0.025), quantile(draws, 0.975)
 
 
 def late_mean(points):
@@ -631,10 +631,7 @@ def check_table(kind, opts, header, body):
             if not m:
                 raise SystemExit(f"arms: row spec {spec!r} is not GROUP[>BASE]@BUDGET:W")
             x, window = parse_samples(m.group(3)), int(m.group(4))
-            at = lambda group: [
-                v for v in (window_at(evaluations(rows), x, window) for rows in group_runs(group))
-                if v is not None
-            ]
+            at = lambda group: window_values(group, x, window)  # noqa: E731
             xs = at(m.group(1))
             compare(r, 3, str(len(xs)))
             spread = max(xs) - min(xs)
@@ -667,14 +664,9 @@ def check_table(kind, opts, header, body):
                 raise SystemExit(f"versus: row spec {spec!r} is not GROUP>OTHER@BUDGET:W")
             x, window = parse_samples(m.group(3)), int(m.group(4))
             # max=SAMPLES: every run read up to it, as `logo summary --max-samples`.
-            limit = {None: math.inf, "budget": x}.get(opts.get("max")) or parse_samples(opts["max"])
-            at = lambda group: [
-                v for v in (
-                    window_at([p for p in evaluations(rows) if p[0] <= limit], x, window)
-                    for rows in group_runs(group)
-                ) if v is not None
-            ]
-            xs, ys = at(m.group(1)), at(m.group(2))
+            given = opts.get("max")
+            limit = math.inf if given is None else x if given == "budget" else parse_samples(given)
+            xs, ys = (window_values(g, x, window, limit) for g in (m.group(1), m.group(2)))
             compare(r, 3, str(len(xs)))
             compare(r, 5, str(len(ys)))
             spread = max(xs + ys) - min(xs + ys)
