@@ -16,6 +16,7 @@ const FOLDERS: &[&str] = &[
     "logo",
     "logo-fast",
     "trpo",
+    "bc-trpo",
     "ppo",
     "logo-ppo",
     "logo-cdq",

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use logo_envs::{EnvConfig, EnvSpec};
 use logo_nn::DiscriminatorInit;
 
+use crate::bc::{InitConfig, InitKind};
 use crate::critic::CriticConfig;
 use crate::episode::SuccessRule;
 use crate::policy_update::PolicyUpdateConfig;
@@ -100,6 +101,10 @@ pub struct TrainConfig {
     pub checkpoint_every: usize,
     /// Start from this policy: a LOGO reference `.pt` (the reference's `--init-BC`).
     pub init_policy: Option<PathBuf>,
+    /// Where the policy starts (`[init]`): the seed's initialisation, or behaviour
+    /// cloning on demonstrations (`kind = "bc"`: BC-TRPO, DAPG).
+    #[serde(default, skip_serializing_if = "InitConfig::is_random")]
+    pub init: InitConfig,
     /// The networks' float type of a new run where no `--dtype` flag chooses one:
     /// `"f64"` (the default on the CPU: the reference's precision) or `"f32"` (the fast
     /// preset's, configs/logo-fast/); a flag given over it is written here in the run's
@@ -300,6 +305,7 @@ impl TrainConfig {
         if let Some(p) = config.init_policy.as_mut() {
             resolve(p);
         }
+        config.init.demos.as_mut().map(resolve);
         if let Some(g) = config.guidance.as_mut() {
             g.demos.as_mut().map(resolve);
             g.behaviour_policy.as_mut().map(resolve);
@@ -313,6 +319,9 @@ impl TrainConfig {
         let mut paths = Vec::new();
         if let Some(p) = self.init_policy.as_mut() {
             paths.push(("init_policy", p));
+        }
+        if let Some(p) = self.init.demos.as_mut() {
+            paths.push(("init.demos", p));
         }
         if let Some(g) = self.guidance.as_mut() {
             if let Some(p) = g.demos.as_mut() {
@@ -428,6 +437,12 @@ impl TrainConfig {
         if let Some(g) = &self.guidance {
             g.validate()?;
         }
+        self.init.validate()?;
+        if let Some(p) = &self.init.demos
+            && !p.exists()
+        {
+            return Err(format!("init.demos: {} not found", p.display()));
+        }
         Ok(())
     }
 
@@ -442,6 +457,22 @@ impl TrainConfig {
                  or \"terminated\", not \"none\""
                     .into(),
             );
+        }
+        if self.init.kind == InitKind::Bc {
+            if self.init_policy.is_some() {
+                return Err(
+                    "init: kind = \"bc\" and init_policy both say where the policy \
+                            starts; set one or the other"
+                        .into(),
+                );
+            }
+            if self.bc_demos().is_none() {
+                return Err(
+                    "init: kind = \"bc\" needs demonstrations: set init.demos (or \
+                            guidance.demos)"
+                        .into(),
+                );
+            }
         }
         // A policy file (a reference `.pt`) was trained on raw observations.
         let behaviour = self
@@ -462,6 +493,13 @@ impl TrainConfig {
             }
         }
         Ok(())
+    }
+
+    /// The demonstrations `[init] kind = "bc"` clones: `init.demos`, else
+    /// `guidance.demos`.
+    pub fn bc_demos(&self) -> Option<&Path> {
+        let guidance = self.guidance.as_ref().and_then(|g| g.demos.as_deref());
+        self.init.demos.as_deref().or(guidance)
     }
 
     /// The env every evaluation runs on: `eval_env`, else the trained task itself.

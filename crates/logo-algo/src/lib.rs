@@ -3,6 +3,7 @@
 //!
 //! | file | the paper's name |
 //! | --- | --- |
+//! | `bc.rs` | behaviour cloning: `[init] kind = "bc"` and `logo bc` |
 //! | `sampler.rs` | collect (s, a, r, s') ~ π_k: whole episodes, at least `samples_per_iter` steps |
 //! | `gae.rs` | generalised advantage estimation |
 //! | `critic.rs` | the critic kinds (`single`, `twin-min` = clipped double-Q) and their fits (`lbfgs.rs`, `adam.rs`) |
@@ -17,6 +18,8 @@
 //! | `config.rs`, `validate.rs` | the TOML config, and the checks its tables share |
 
 pub mod adam;
+pub mod algorithms;
+pub mod bc;
 pub mod config;
 pub mod critic;
 pub mod delta_schedule;

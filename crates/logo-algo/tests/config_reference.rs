@@ -27,6 +27,7 @@ const SECTIONS: &[(&str, &str, Option<&str>)] = &[
         "[env]\nid = \"Hopper-v4\"\n[env.sparse]\nkind = \"delayed\"\nunknown_key = 1\n",
         None,
     ),
+    ("`[init]`", "[init]\nunknown_key = 1\n", None),
     ("`[critic]`", "[critic]\nunknown_key = 1\n", None),
     (
         "`[critic.fit]`, `method = \"lbfgs\"`",

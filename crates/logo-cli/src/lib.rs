@@ -2,6 +2,7 @@
 //! line and calls them; the Python package (`crates/logo-py`) calls the trainer's job and
 //! the evaluation the same way, so a run from Python writes what `logo train` writes.
 
+pub mod bc;
 pub mod data;
 pub mod eval;
 pub mod final_eval;

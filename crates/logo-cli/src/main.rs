@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use logo_cli::{data, eval, rollout, train};
+use logo_cli::{bc, data, eval, rollout, train};
 use logo_lab::{bench, plot, summary, sweep};
 
 #[derive(Parser)]
@@ -23,6 +23,10 @@ enum Command {
     Envs,
     /// Train TRPO or LOGO from a TOML config (configs/).
     Train(train::TrainArgs),
+    /// List the algorithms, one line each, with their papers and configs.
+    Algorithms,
+    /// Behaviour cloning: fit a policy to demonstrations, score it, write a checkpoint.
+    Bc(bc::BcArgs),
     /// Evaluate a checkpoint's mean-action policy: dense and sparse return, mean ± std.
     Eval(eval::EvalArgs),
     /// Run episodes with a fixed (random or zero) policy and print dense and sparse returns.
@@ -107,6 +111,11 @@ fn main() -> ExitCode {
         Command::Envs => rollout::list_envs(),
         Command::Rollout(args) => rollout::run(&args),
         Command::Train(args) => train::run(&args),
+        Command::Algorithms => {
+            print!("{}", logo_algo::algorithms::table());
+            Ok(())
+        }
+        Command::Bc(args) => bc::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Bench(cmd) => bench::run(&cmd),
         Command::Data(cmd) => data::run(&cmd),

@@ -266,6 +266,12 @@ fn train<E: Engine>(engine: E, job: Job, console: &mut dyn Console) -> Result<Pa
             .map_err(|e| anyhow::anyhow!("{e}"))?;
     }
     console.say(&start_line(&trainer, &out));
+    if let Some(r) = trainer.behaviour_cloning() {
+        console.say(&format!(
+            "started from behaviour cloning on {} pairs: −log π(a|s) {:.3} → {:.3} in {} Adam steps",
+            r.pairs, r.loss_before, r.loss_after, r.steps
+        ));
+    }
     let total = trainer.config.iterations;
     let mut last = None;
     // The speed is this invocation's: a resumed run's wall_s also holds earlier

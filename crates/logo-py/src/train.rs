@@ -5,10 +5,13 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::ValueEnum;
+use logo_algo::bc::{InitConfig, InitKind};
+use logo_algo::episode::SuccessRule;
 use logo_algo::{Schedule, TrainConfig};
+use logo_cli::bc::BcJob;
 use logo_cli::train::{Console, Job, Start, default_out, run_job};
 use logo_engine::{BackendKind, Dtype, EngineArgs, EngineKind};
-use logo_envs::{EnvMaker, EnvSpec};
+use logo_envs::{EnvConfig, EnvMaker, EnvSpec};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -229,4 +232,80 @@ fn register(make: Py<PyAny>, spec: SpecArg, raised: Raised) -> PyResult<Register
     logo_envs::register_external(maker.clone())
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(Registered(maker))
+}
+
+/// `logo bc` in this process, with the GIL released: fits, writes the checkpoint `out`,
+/// evaluates. `env_id` names the task (a logo-rl id, or a Python env's, registered for the
+/// call from `env`). Returns the checkpoint's path and, as JSON, the fit's report, the
+/// evaluation (as `eval.json` holds one policy's) and the engine.
+#[pyfunction]
+#[pyo3(signature = (
+    *, env_id, demos, out, seed, epochs, minibatch, learning_rate, learn_std, hidden,
+    episodes, engine = None, backend = None, dtype = None, env = None
+))]
+#[allow(clippy::too_many_arguments)]
+pub fn bc(
+    py: Python<'_>,
+    env_id: String,
+    demos: PathBuf,
+    out: PathBuf,
+    seed: u64,
+    epochs: usize,
+    minibatch: usize,
+    learning_rate: f64,
+    learn_std: bool,
+    hidden: Vec<usize>,
+    episodes: usize,
+    engine: Option<&str>,
+    backend: Option<&str>,
+    dtype: Option<&str>,
+    env: Option<(Py<PyAny>, SpecArg)>,
+) -> PyResult<(PathBuf, String)> {
+    let engine = EngineArgs {
+        engine: choice::<EngineKind>("engine", engine)?,
+        backend: choice::<BackendKind>("backend", backend)?,
+        dtype: choice::<Dtype>("dtype", dtype)?,
+    };
+    let fit = InitConfig {
+        kind: InitKind::Bc,
+        demos: None,
+        epochs,
+        minibatch,
+        learning_rate,
+        learn_std,
+    };
+    fit.validate()
+        .map_err(|e| PyValueError::new_err(e.replace("init.", "")))?;
+    logo_algo::validate::check_widths("hidden", &hidden).map_err(PyValueError::new_err)?;
+    if episodes == 0 {
+        return Err(PyValueError::new_err("episodes must be at least 1"));
+    }
+    let raised = Raised::default();
+    let _registered = env
+        .map(|(make, spec)| register(make, spec, raised.clone()))
+        .transpose()?;
+    let job = BcJob {
+        env: EnvConfig::named(&env_id),
+        demos,
+        out,
+        seed,
+        hidden,
+        log_std_init: 0.0,
+        fit,
+        success: SuccessRule::default(),
+        episodes,
+    };
+    let result = py.detach(|| engine.with(logo_cli::bc::Cloning(&job)));
+    match (result, raised.take()) {
+        (_, Some(raised)) => Err(raised),
+        (Err(e), None) => Err(logo_error(&e)),
+        (Ok(outcome), None) => {
+            let json = serde_json::json!({
+                "report": outcome.report,
+                "evaluation": outcome.evaluation,
+                "engine": outcome.engine,
+            });
+            Ok((outcome.checkpoint, json.to_string()))
+        }
+    }
 }

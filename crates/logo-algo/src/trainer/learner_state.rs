@@ -443,8 +443,8 @@ impl Networks {
 
 type CpuDevice = burn::tensor::Device<Cpu>;
 
-/// The policy from `init_policy` (a reference `.pt`, which must fit the env), or a new
-/// one of the config's sizes.
+/// The policy from `init_policy` (a reference `.pt` or a logo-rl checkpoint, `logo bc`'s
+/// among them; it must fit the env), or a new one of the config's sizes.
 fn initial_policy(
     config: &TrainConfig,
     obs_dim: usize,
@@ -460,7 +460,10 @@ fn initial_policy(
         }
         .init(device));
     };
-    let policy = load_reference_policy::<Cpu>(path, device)?;
+    let policy = match path.extension().and_then(|e| e.to_str()) {
+        Some("pt") => load_reference_policy::<Cpu>(path, device)?,
+        _ => checkpoint_policy(path, device)?,
+    };
     if (policy.obs_dim(), policy.act_dim()) != (obs_dim, act_dim) {
         return Err(format!(
             "init_policy {}: obs/action dims ({}, {}) do not match {} ({obs_dim}, {act_dim})",
@@ -472,6 +475,35 @@ fn initial_policy(
         .into());
     }
     Ok(policy)
+}
+
+/// The policy of a logo-rl checkpoint, for `init_policy`: one that acts on raw
+/// observations (a run's standardised ones would need its statistics, which a new run
+/// does not take over).
+fn checkpoint_policy(path: &Path, device: &CpuDevice) -> Result<GaussianPolicy<Cpu>, TrainError> {
+    let ckpt = Checkpoint::load(path)?;
+    if ckpt.tensor("observation_norm.mean").is_some() {
+        return Err(format!(
+            "init_policy {}: this policy acts on standardised observations (its run set \
+             normalise_observations), which a new run does not take over; give a policy of \
+             raw observations",
+            path.display()
+        )
+        .into());
+    }
+    let hidden = ckpt.meta.networks.get("policy").ok_or_else(|| {
+        format!(
+            "init_policy {}: the checkpoint holds no policy network",
+            path.display()
+        )
+    })?;
+    let config = PolicyConfig {
+        obs_dim: ckpt.meta.obs_dim,
+        act_dim: ckpt.meta.act_dim,
+        hidden: hidden.clone(),
+        log_std_init: 0.0,
+    };
+    Ok(ckpt.apply("policy", config.init::<Cpu>(device))?)
 }
 
 /// The discriminator of `[guidance]`, on the first `observe` observation dims.

@@ -27,15 +27,16 @@ use std::path::Path;
 use std::sync::Arc;
 
 use logo_data::Demonstrations;
-use logo_envs::EnvFactory;
-use logo_nn::{ActingPolicy, Engine};
+use logo_envs::{EnvFactory, EnvSpec};
+use logo_nn::{ActingPolicy, Engine, ObservationStats, Policy};
 
+use crate::bc::{self, BcReport, InitKind};
 use crate::config::TrainConfig;
 use crate::metrics::IterationMetrics;
 use crate::run_dir::RunDir;
 pub use crate::run_dir::TrainError;
 use learner::{Learner, check_dims};
-pub use learner_state::{EngineSpan, LearnerState, engine_history};
+pub use learner_state::{EngineSpan, LearnerState, Networks, engine_history};
 use recorder::Recorder;
 use resources::{Collected, Resources};
 pub use schedule::Schedule;
@@ -47,6 +48,7 @@ pub struct Trainer<E: Engine> {
     recorder: Recorder,
     /// Batch k+1, where the pipelined schedule collected it during iteration k.
     next_batch: Option<Collected>,
+    behaviour_cloning: Option<BcReport>,
 }
 
 impl<E: Engine> Trainer<E> {
@@ -56,8 +58,21 @@ impl<E: Engine> Trainer<E> {
         let run = RunDir::create(out_dir, &config)?;
         let factory = config.env.factory()?;
         let spec = factory.spec();
-        let state = LearnerState::initial(&config, spec.obs_dim, spec.act_dim)?;
-        Self::assemble(engine, config, run, &factory, state)
+        let mut state = LearnerState::initial(&config, spec.obs_dim, spec.act_dim)?;
+        let cloned = behaviour_clone(&engine, &config, &spec, &mut state.networks)?;
+        if let Some(report) = &cloned {
+            let path = run.path().join("bc.json");
+            std::fs::write(&path, serde_json::to_string_pretty(report)?)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        let mut trainer = Self::assemble(engine, config, run, &factory, state)?;
+        trainer.behaviour_cloning = cloned;
+        Ok(trainer)
+    }
+
+    /// What `[init] kind = "bc"` did before the first iteration (None on a resumed run).
+    pub fn behaviour_cloning(&self) -> Option<&BcReport> {
+        self.behaviour_cloning.as_ref()
     }
 
     /// Continues the run in `out_dir` from its checkpoint: load the state, check it, go
@@ -114,6 +129,7 @@ impl<E: Engine> Trainer<E> {
             resources,
             recorder: Recorder::new(run),
             next_batch: None,
+            behaviour_cloning: None,
         })
     }
 
@@ -192,4 +208,49 @@ impl<E: Engine> Trainer<E> {
     fn stopped(&self, e: TrainError) -> TrainError {
         self.recorder.stopped(e)
     }
+}
+
+/// `[init] kind = "bc"`: the newly initialised policy cloned on the demonstrations. Where
+/// the run standardises observations, the statistics start from the demonstrations'
+/// observations and the clone sees them through those.
+fn behaviour_clone<E: Engine>(
+    engine: &E,
+    config: &TrainConfig,
+    spec: &EnvSpec,
+    networks: &mut Networks,
+) -> Result<Option<BcReport>, TrainError> {
+    if config.init.kind != InitKind::Bc {
+        return Ok(None);
+    }
+    let key = match config.init.demos {
+        Some(_) => "init.demos",
+        None => "guidance.demos",
+    };
+    let path = config
+        .bc_demos()
+        .ok_or_else(|| format!("{key} is not set"))?;
+    let demos = Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim)
+        .map_err(|e| format!("{key}: {e}"))?;
+    let mut obs = demos.obs.clone();
+    if let Some(norm) = networks.observation_norm.as_mut() {
+        let mut stats = ObservationStats::from_module(norm);
+        stats.update(&obs);
+        stats.normalise(&mut obs);
+        *norm = stats.module(&Default::default());
+    }
+    let policy = Policy::from_module(engine, &networks.policy);
+    let mut rng = bc::generator(config.seed);
+    let (fitted, report) = bc::fit(
+        engine,
+        &policy,
+        &obs,
+        &demos.actions,
+        &config.init,
+        &mut rng,
+    );
+    if !fitted.is_finite(engine) {
+        return Err(format!("behaviour cloning on {key} left a non-finite parameter").into());
+    }
+    networks.policy = fitted.to_module(engine, networks.policy.clone());
+    Ok(Some(report))
 }

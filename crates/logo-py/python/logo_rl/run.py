@@ -240,7 +240,12 @@ def _plain(value: Any) -> Any:
     raise TypeError(f"config value {value!r} of type {type(value).__name__}: not a TOML value")
 
 
-PATH_KEYS = {("init_policy",), ("guidance", "demos"), ("guidance", "behaviour_policy")}
+PATH_KEYS = {
+    ("init_policy",),
+    ("init", "demos"),
+    ("guidance", "demos"),
+    ("guidance", "behaviour_policy"),
+}
 
 
 def _absolute_paths(table: dict) -> dict:

@@ -1,0 +1,122 @@
+//! The algorithms logo-rl trains, one line each: what `logo algorithms` prints. Each is a
+//! configuration of the one trainer (a folder of `configs/` per task), or `logo bc`.
+
+/// One algorithm: its name, what it is in a line, where it comes from, and how to run it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Algorithm {
+    pub name: &'static str,
+    pub summary: &'static str,
+    pub paper: &'static str,
+    /// `configs/<folder>/<task>.toml`, or the command that runs it.
+    pub run: &'static str,
+}
+
+/// Every algorithm, baselines first.
+pub const ALGORITHMS: &[Algorithm] = &[
+    Algorithm {
+        name: "trpo",
+        summary: "TRPO on the env reward alone",
+        paper: "Schulman et al., 2015",
+        run: "configs/trpo/",
+    },
+    Algorithm {
+        name: "bc",
+        summary: "behaviour cloning: the policy fitted to the demonstrations by maximum likelihood",
+        paper: "(Pomerleau, 1991)",
+        run: "logo bc",
+    },
+    Algorithm {
+        name: "bc-trpo",
+        summary: "behaviour cloning ([init] kind = \"bc\"), then TRPO on the env reward",
+        paper: "(as in Rajeswaran et al., 2018)",
+        run: "configs/bc-trpo/",
+    },
+    Algorithm {
+        name: "logo",
+        summary: "TRPO step, then a guidance step toward the demonstrations (KL δ_k, decaying)",
+        paper: "Rengarajan et al., ICLR 2022",
+        run: "configs/logo/",
+    },
+    Algorithm {
+        name: "logo-fast",
+        summary: "LOGO in float32 with critic fits on a quarter of the rows (the fast preset)",
+        paper: "logo-rl",
+        run: "configs/logo-fast/",
+    },
+    Algorithm {
+        name: "ppo",
+        summary: "early-stopping PPO-Clip on the env reward alone (the seed paper's Algorithm 3)",
+        paper: "Schulman et al., 2017",
+        run: "configs/ppo/",
+    },
+    Algorithm {
+        name: "logo-ppo",
+        summary: "LOGO with both steps by early-stopping PPO-Clip",
+        paper: "the seed paper",
+        run: "configs/logo-ppo/",
+    },
+    Algorithm {
+        name: "logo-cdq",
+        summary: "LOGO with clipped double-Q critics (baseline min(V1, V2))",
+        paper: "the seed paper",
+        run: "configs/logo-cdq/",
+    },
+    Algorithm {
+        name: "logo-ppo-cdq",
+        summary: "LOGO with PPO-Clip steps and clipped double-Q critics (the seed paper's Algorithm 2)",
+        paper: "the seed paper",
+        run: "configs/logo-ppo-cdq/",
+    },
+    Algorithm {
+        name: "logo-clip-in-trpo",
+        summary: "LOGO with the clipped surrogate inside TRPO's natural-gradient step",
+        paper: "the seed paper's code",
+        run: "configs/logo-clip-in-trpo/",
+    },
+    Algorithm {
+        name: "logo-ppo-penalty",
+        summary: "LOGO: PPO-Clip improvement step, PPO-Penalty guidance step with δ_k its KL target (Algorithm 4)",
+        paper: "the seed paper",
+        run: "configs/logo-ppo-penalty/",
+    },
+];
+
+/// `logo algorithms`: a line per algorithm, names aligned.
+pub fn table() -> String {
+    let width = ALGORITHMS.iter().map(|a| a.name.len()).max().unwrap_or(0);
+    ALGORITHMS
+        .iter()
+        .map(|a| {
+            format!(
+                "{:width$}  {} [{}; {}]\n",
+                a.name, a.summary, a.paper, a.run
+            )
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each algorithm's configs exist for the four LOGO tasks (a renamed folder fails here).
+    #[test]
+    fn every_listed_config_folder_has_the_four_tasks() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        for a in ALGORITHMS.iter().filter(|a| a.run.starts_with("configs/")) {
+            for task in [
+                "hopper",
+                "walker2d",
+                "halfcheetah",
+                "inverted_double_pendulum",
+            ] {
+                let path = root.join(a.run).join(format!("{task}.toml"));
+                assert!(path.is_file(), "{}: {} is missing", a.name, path.display());
+            }
+        }
+        let names: Vec<_> = ALGORITHMS.iter().map(|a| a.name).collect();
+        for name in ["trpo", "logo", "bc", "bc-trpo", "logo-ppo-cdq"] {
+            assert!(names.contains(&name), "{name} is not listed");
+        }
+    }
+}

@@ -1,0 +1,112 @@
+"""``logo_rl.bc``: behaviour cloning (``logo bc``) from Python, in this process."""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+from . import _logo_rl
+from .custom import demos_path, prepare
+from .policy import Policy
+
+
+@dataclass(frozen=True)
+class Cloned:
+    """What :func:`bc` did: the checkpoint, the fit and the evaluation of its policy."""
+
+    path: Path
+    """The checkpoint (``logo eval``, ``init_policy`` and :func:`logo_rl.load` read it)."""
+    pairs: int
+    loss_before: float
+    """−mean log π(a|s) over the demonstrations, at the initialisation..."""
+    loss_after: float
+    """...and after the fit."""
+    evaluation: dict[str, Any]
+    """The mean action over fresh episodes, as sent and clipped (``eval.json``'s layout)."""
+
+    @property
+    def policy(self) -> Policy:
+        return Policy(self.path)
+
+    @property
+    def success_rate(self) -> float | None:
+        """The share of evaluation episodes that reached the goal (None where the task
+        defines no success)."""
+        return self.evaluation["mean_action"]["summary"]["success_rate"]
+
+
+def bc(
+    demos: Any,
+    *,
+    env: str | Callable[[], Any],
+    out: str | os.PathLike | None = None,
+    seed: int = 0,
+    epochs: int = 100,
+    minibatch: int = 64,
+    learning_rate: float = 1e-3,
+    learn_std: bool = True,
+    hidden: Sequence[int] = (128, 128),
+    episodes: int = 20,
+    engine: str | None = None,
+    backend: str | None = None,
+    dtype: str | None = None,
+) -> Cloned:
+    """Fits a policy to ``demos`` by maximum likelihood, as ``logo bc`` does, scores its mean
+    action on ``episodes`` fresh episodes of ``env``, and writes it to ``out`` (default
+    ``runs/bc-<env>-seed<seed>/policy.safetensors``).
+
+    ``env``: one of logo-rl's ids (:func:`logo_rl.env_ids`), a Gymnasium id, or a callable
+    returning a new env. ``demos``: as :func:`logo_rl.train` takes them (a Minari dataset,
+    its folder or id, a ``.npy`` of ``[observation ‖ action]`` rows, or a list of
+    ``(observations, actions)`` trajectories). ``epochs``, ``minibatch``,
+    ``learning_rate``, ``learn_std``: as ``[init]``'s keys (docs/config.md).
+    """
+    for name, value in (("epochs", epochs), ("minibatch", minibatch), ("episodes", episodes)):
+        if not isinstance(value, int) or isinstance(value, bool):
+            raise TypeError(f"{name}={value!r}: expected an integer")
+        if value < 1:
+            raise ValueError(f"{name}={value}: expected at least 1")
+    hidden = list(hidden)
+    if not all(isinstance(h, int) and not isinstance(h, bool) for h in hidden):
+        raise TypeError(f"hidden={hidden!r}: expected a sequence of integers")
+    python_env = None
+    if isinstance(env, str) and env in _logo_rl.env_ids():
+        env_id = env
+        rust_env = _logo_rl.RustEnv(env)
+        obs_dim, act_dim = rust_env.obs_dim, rust_env.act_dim
+    else:
+        python_env = prepare(env)
+        spec = python_env[1]
+        env_id, obs_dim, act_dim = spec["id"], spec["obs_dim"], spec["act_dim"]
+    if out is None:
+        out = Path("runs") / f"bc-{env_id.replace('/', '_')}-seed{seed}" / "policy.safetensors"
+    out = Path(out)
+    where = demos_path(demos, out.parent, obs_dim, act_dim)
+    path, report = _logo_rl.bc(
+        env_id=env_id,
+        demos=where,
+        out=os.fspath(out),
+        seed=seed,
+        epochs=epochs,
+        minibatch=minibatch,
+        learning_rate=float(learning_rate),
+        learn_std=bool(learn_std),
+        hidden=hidden,
+        episodes=episodes,
+        engine=engine,
+        backend=backend,
+        dtype=dtype,
+        env=python_env,
+    )
+    report = json.loads(report)
+    fit = report["report"]
+    return Cloned(
+        path=Path(path),
+        pairs=fit["pairs"],
+        loss_before=fit["loss_before"],
+        loss_after=fit["loss_after"],
+        evaluation=report["evaluation"],
+    )
