@@ -17,6 +17,8 @@ const FOLDERS: &[&str] = &[
     "logo-fast",
     "trpo",
     "bc-trpo",
+    "gail",
+    "pofd",
     "ppo",
     "logo-ppo",
     "logo-cdq",

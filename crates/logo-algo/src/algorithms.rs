@@ -32,6 +32,18 @@ pub const ALGORITHMS: &[Algorithm] = &[
         run: "configs/bc-trpo/",
     },
     Algorithm {
+        name: "gail",
+        summary: "TRPO on the discriminator's −log D(s, a) alone; the env reward is unused",
+        paper: "Ho & Ermon, 2016",
+        run: "configs/gail/",
+    },
+    Algorithm {
+        name: "pofd",
+        summary: "TRPO on r + λ₁·(−log D(s, a)), the discriminator trained as LOGO's",
+        paper: "Kang, Jie & Feng, 2018",
+        run: "configs/pofd/",
+    },
+    Algorithm {
         name: "logo",
         summary: "TRPO step, then a guidance step toward the demonstrations (KL δ_k, decaying)",
         paper: "Rengarajan et al., ICLR 2022",
@@ -115,7 +127,15 @@ mod tests {
             }
         }
         let names: Vec<_> = ALGORITHMS.iter().map(|a| a.name).collect();
-        for name in ["trpo", "logo", "bc", "bc-trpo", "logo-ppo-cdq"] {
+        for name in [
+            "trpo",
+            "logo",
+            "bc",
+            "bc-trpo",
+            "gail",
+            "pofd",
+            "logo-ppo-cdq",
+        ] {
             assert!(names.contains(&name), "{name} is not listed");
         }
     }

@@ -11,6 +11,7 @@ use logo_nn::DiscriminatorInit;
 
 use crate::bc::{InitConfig, InitKind};
 use crate::critic::CriticConfig;
+use crate::delta_schedule::{DELTA_FLOOR, DeltaSchedule};
 use crate::episode::SuccessRule;
 use crate::policy_update::PolicyUpdateConfig;
 use crate::sampler::RolloutMode;
@@ -117,6 +118,61 @@ pub struct TrainConfig {
     pub improvement: PolicyUpdateConfig,
     /// LOGO's guidance; absent: the improvement step alone (TRPO, PPO, ...).
     pub guidance: Option<GuidanceConfig>,
+    /// The improvement step's reward (`[reward]`): the env's, or mixed with the
+    /// discriminator's −log D (GAIL, POfD).
+    #[serde(default, skip_serializing_if = "RewardConfig::is_env_alone")]
+    pub reward: RewardConfig,
+}
+
+/// `[reward]`: what the improvement step ascends, per step
+/// `env`·r + `discriminator`·(−log D(s, a)), with D `[guidance]`'s discriminator as the
+/// last iteration left it. The default is the env reward alone; GAIL is `env = 0,
+/// discriminator = 1`, POfD `env = 1, discriminator = λ₁` (both with `[guidance] step =
+/// false`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RewardConfig {
+    pub env: f64,
+    pub discriminator: f64,
+}
+
+impl Default for RewardConfig {
+    fn default() -> Self {
+        Self {
+            env: 1.0,
+            discriminator: 0.0,
+        }
+    }
+}
+
+impl RewardConfig {
+    /// The env reward alone, as every run before `[reward]` (left out of stored configs).
+    pub fn is_env_alone(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The per-step reward of `env` and `discriminator` rewards.
+    pub fn mix(&self, env: &[f64], discriminator: &[f64]) -> Vec<f64> {
+        env.iter()
+            .zip(discriminator)
+            .map(|(r, c)| self.env * r + self.discriminator * c)
+            .collect()
+    }
+
+    fn validate(&self) -> Result<(), String> {
+        for (key, v) in [
+            ("reward.env", self.env),
+            ("reward.discriminator", self.discriminator),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(format!("{key} must be a number ≥ 0, got {v}"));
+            }
+        }
+        if self.env == 0.0 && self.discriminator == 0.0 {
+            return Err("reward: env and discriminator are both 0 (nothing to learn from)".into());
+        }
+        Ok(())
+    }
 }
 
 /// `[guidance] decay_on`: what δ_k's schedule reads.
@@ -144,10 +200,19 @@ pub struct GuidanceConfig {
     pub demos: Option<PathBuf>,
     /// A known behaviour policy (`.pt`): C = log(π_k / π_b) replaces the discriminator.
     pub behaviour_policy: Option<PathBuf>,
-    pub delta0: f64,
-    pub alpha: f64,
-    /// K_δ: iterations before δ_k may shrink.
-    pub warmup: usize,
+    /// LOGO's second policy step on r_C with KL ≈ δ_k (true, the default); false: no
+    /// guidance step, the discriminator's reward reaches the policy through `[reward]`
+    /// alone (GAIL, POfD), and `delta0`, `alpha`, `warmup`, `update` and `critic` are not
+    /// set.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub step: bool,
+    /// δ_0, α and K_δ (iterations before δ_k may shrink): required with the step.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub delta0: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warmup: Option<usize>,
     /// What δ_k's decay reads: the batch's mean return (`"return"`, LOGO's: on its
     /// sparse tasks the return rises only as the agent earns), or the share of the
     /// batch's episodes that succeed by `success` (`"success"`: on a task with an action
@@ -213,6 +278,12 @@ fn default_checkpoint_every() -> usize {
 }
 fn default_disc_lr() -> f64 {
     3e-4
+}
+fn yes() -> bool {
+    true
+}
+fn is_true(b: &bool) -> bool {
+    *b
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -438,6 +509,7 @@ impl TrainConfig {
             g.validate()?;
         }
         self.init.validate()?;
+        self.reward.validate()?;
         if let Some(p) = &self.init.demos
             && !p.exists()
         {
@@ -457,6 +529,10 @@ impl TrainConfig {
                  or \"terminated\", not \"none\""
                     .into(),
             );
+        }
+        let discriminator = self.guidance.as_ref().is_some_and(|g| g.demos.is_some());
+        if self.reward.discriminator > 0.0 && !discriminator {
+            return Err("reward.discriminator needs a discriminator: set [guidance] demos".into());
         }
         if self.init.kind == InitKind::Bc {
             if self.init_policy.is_some() {
@@ -533,13 +609,13 @@ impl TrainConfig {
 
     /// The guidance step's kind: `[guidance.update]`, else the improvement step's.
     pub fn guidance_update(&self) -> Option<&PolicyUpdateConfig> {
-        let g = self.guidance.as_ref()?;
+        let g = self.guidance.as_ref().filter(|g| g.step)?;
         Some(g.update.as_ref().unwrap_or(&self.improvement))
     }
 
     /// The guidance critic: `[guidance.critic]`, else `[critic]`.
     pub fn guidance_critic(&self) -> Option<&CriticConfig> {
-        let g = self.guidance.as_ref()?;
+        let g = self.guidance.as_ref().filter(|g| g.step)?;
         Some(g.critic.as_ref().unwrap_or(&self.critic))
     }
 
@@ -548,7 +624,7 @@ impl TrainConfig {
     /// float type (`dtype`, as the engine flags resolved it). It trains as `self` does.
     pub fn resolved(mut self, dtype: FloatType) -> Self {
         self.dtype = Some(dtype);
-        if let Some(g) = self.guidance.as_mut() {
+        if let Some(g) = self.guidance.as_mut().filter(|g| g.step) {
             g.update.get_or_insert_with(|| self.improvement.clone());
             g.critic.get_or_insert_with(|| self.critic.clone());
         }
@@ -564,12 +640,28 @@ impl TrainConfig {
     /// "LOGO (guidance ppo-clip, twin-min critics)", ...
     pub fn algorithm(&self) -> String {
         let improvement = self.improvement.kind();
-        let mut name = match (&self.guidance, improvement) {
+        let step = self.guidance.as_ref().map(|g| g.step);
+        let mut name = match (step, improvement) {
             (None, "trpo") => "TRPO".to_string(),
             (None, kind) => kind.to_uppercase(),
-            (Some(_), "trpo") => "LOGO".to_string(),
-            (Some(_), kind) => format!("LOGO+{}", kind.to_uppercase()),
+            (Some(true), "trpo") => "LOGO".to_string(),
+            (Some(true), kind) => format!("LOGO+{}", kind.to_uppercase()),
+            // The discriminator's reward alone, or mixed into the env's.
+            (Some(false), kind) => {
+                let name = if self.reward.env == 0.0 {
+                    "GAIL"
+                } else {
+                    "POfD"
+                };
+                match kind {
+                    "trpo" => name.to_string(),
+                    kind => format!("{name}+{}", kind.to_uppercase()),
+                }
+            }
         };
+        if self.init.kind == InitKind::Bc {
+            name = format!("BC-{name}");
+        }
         let mut notes = Vec::new();
         if let Some(update) = self.guidance_update()
             && update.kind() != improvement
@@ -594,6 +686,56 @@ impl TrainConfig {
 }
 
 impl GuidanceConfig {
+    /// δ_k's schedule at the start: δ_0, α and K_δ; without the guidance step, one that
+    /// stays at its floor (the step never runs).
+    pub fn schedule(&self) -> DeltaSchedule {
+        match (self.step, self.delta0, self.alpha, self.warmup) {
+            (true, Some(delta0), Some(alpha), Some(warmup)) => {
+                DeltaSchedule::new(delta0, alpha, warmup)
+            }
+            _ => DeltaSchedule::new(DELTA_FLOOR, 1.0, 0),
+        }
+    }
+
+    /// The step's keys are set exactly with the step.
+    fn check_step(&self) -> Result<(), String> {
+        let step_keys = [
+            ("delta0", self.delta0.is_some()),
+            ("alpha", self.alpha.is_some()),
+            ("warmup", self.warmup.is_some()),
+            ("update", self.update.is_some()),
+            ("critic", self.critic.is_some()),
+        ];
+        if !self.step {
+            if let Some((key, _)) = step_keys.iter().find(|(_, set)| *set) {
+                return Err(format!(
+                    "guidance.{key} belongs to the guidance step, which guidance.step = false \
+                     turns off; remove it"
+                ));
+            }
+            if self.demos.is_none() {
+                return Err(
+                    "guidance.step = false needs demos: the discriminator's reward is all that \
+                     is left of the guidance"
+                        .into(),
+                );
+            }
+            return Ok(());
+        }
+        if let Some((key, _)) = step_keys[..3].iter().find(|(_, set)| !*set) {
+            return Err(format!(
+                "guidance.{key} is required (the guidance step's δ_k schedule; \
+                 docs/config.md), or set guidance.step = false"
+            ));
+        }
+        check_positive("guidance.delta0", self.delta0.unwrap_or_default(), false)?;
+        let alpha = self.alpha.unwrap_or_default();
+        if !(alpha > 0.0 && alpha <= 1.0) {
+            return Err(format!("guidance.alpha must be in (0, 1], got {alpha}"));
+        }
+        Ok(())
+    }
+
     fn validate(&self) -> Result<(), String> {
         match (&self.demos, &self.behaviour_policy) {
             (None, None) => {
@@ -614,13 +756,7 @@ impl GuidanceConfig {
                 return Err(format!("{key}: {} not found", p.display()));
             }
         }
-        check_positive("guidance.delta0", self.delta0, false)?;
-        if !(self.alpha > 0.0 && self.alpha <= 1.0) {
-            return Err(format!(
-                "guidance.alpha must be in (0, 1], got {}",
-                self.alpha
-            ));
-        }
+        self.check_step()?;
         check_positive("guidance.discriminator_lr", self.discriminator_lr, false)?;
         if self.discriminator_steps == 0 {
             return Err("guidance.discriminator_steps must be at least 1".into());

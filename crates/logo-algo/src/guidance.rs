@@ -53,6 +53,19 @@ impl<E: Engine> Guidance<E> {
         }
     }
 
+    /// r_C = −log D(s, a) for every pair of `batch` where the signal is a discriminator
+    /// (for `[reward]`'s mix: GAIL, POfD); None with a known behaviour policy.
+    pub fn discriminator_rewards(&self, engine: &E, batch: &Batch) -> Option<GuidanceReward<E>> {
+        let GuidanceSignal::Discriminator(d) = &self.signal else {
+            return None;
+        };
+        let inputs = d.inputs(engine, &batch.obs, &batch.actions);
+        Some(GuidanceReward {
+            rewards: d.rewards(engine, &inputs),
+            discriminator_inputs: Some(inputs),
+        })
+    }
+
     /// The guidance step from `policy` (π_{k+½}) on `data` with the guidance advantages.
     pub fn step(
         &mut self,

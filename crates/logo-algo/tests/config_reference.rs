@@ -28,6 +28,7 @@ const SECTIONS: &[(&str, &str, Option<&str>)] = &[
         None,
     ),
     ("`[init]`", "[init]\nunknown_key = 1\n", None),
+    ("`[reward]`", "[reward]\nunknown_key = 1\n", None),
     ("`[critic]`", "[critic]\nunknown_key = 1\n", None),
     (
         "`[critic.fit]`, `method = \"lbfgs\"`",

@@ -18,6 +18,8 @@ const ALGORITHMS: [&str; 8] = [
     "ppo",
     "trpo",
 ];
+/// The baselines made of TRPO's config and a reward or an initialisation.
+const BASELINES: [&str; 3] = ["bc-trpo", "gail", "pofd"];
 const ENVS: [&str; 4] = [
     "hopper",
     "walker2d",
@@ -40,7 +42,7 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
             if !matches!(algo.as_str(), "experiments" | "behaviour" | "templates") {
                 assert_eq!(
                     config.guidance.is_some(),
-                    algo.starts_with("logo"),
+                    algo.starts_with("logo") || matches!(algo.as_str(), "gail" | "pofd"),
                     "{}",
                     path.display()
                 );
@@ -184,4 +186,36 @@ fn algorithm_names_say_which_critics_are_twin() {
         name("logo-ppo-penalty/hopper.toml"),
         "LOGO+PPO-CLIP (guidance ppo-penalty)"
     );
+}
+
+/// The baselines differ from `configs/trpo/<env>.toml` in `[init]`, `[reward]` and
+/// `[guidance]` only, and their demonstrations are LOGO's.
+#[test]
+fn baselines_are_trpo_with_a_reward_or_an_initialisation() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+    for env in ENVS {
+        let trpo = TrainConfig::load(&root.join("trpo").join(format!("{env}.toml"))).unwrap();
+        let logo = TrainConfig::load(&root.join("logo").join(format!("{env}.toml"))).unwrap();
+        let logo_demos = logo.guidance.as_ref().and_then(|g| g.demos.clone());
+        for algo in BASELINES {
+            let path = root.join(algo).join(format!("{env}.toml"));
+            let mut config = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            let demos = config.bc_demos().map(Path::to_path_buf);
+            assert_eq!(
+                demos,
+                logo_demos,
+                "{}: not LOGO's demonstrations",
+                path.display()
+            );
+            config.init = trpo.init.clone();
+            config.reward = trpo.reward.clone();
+            config.guidance = None;
+            assert_eq!(
+                config,
+                trpo,
+                "{} differs beyond its baseline's keys",
+                path.display()
+            );
+        }
+    }
 }

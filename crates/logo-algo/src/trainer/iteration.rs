@@ -3,7 +3,8 @@
 //! run them side by side):
 //!
 //! 1. collect whole episodes with π_k;
-//! 2. advantages of the env reward, with the env critic as it stands;
+//! 2. advantages of the env reward (or `[reward]`'s mix of it with −log D: GAIL, POfD),
+//!    with the env critic as it stands;
 //! 3. δ_k from the batch's mean sparse return; while δ_k is above its floor, the guidance
 //!    reward r_C (from last iteration's discriminator, or log π_b − log π_k) and its
 //!    advantages with the guidance critic;
@@ -17,6 +18,8 @@
 //! Without `[guidance]` it is the improvement step alone (TRPO, PPO, ...). Which of steps
 //! 4-8 run beside which is decided in one place, [`Trainer::steps_and_fits`], by the
 //! run's [`Schedule`](super::Schedule).
+
+use std::borrow::Cow;
 
 use burn::tensor::Tensor;
 use logo_nn::flops::in_phase;
@@ -50,8 +53,17 @@ impl<E: Engine> Trainer<E> {
         let (obs, actions, logp_k) = in_phase("sampling", || self.upload(batch));
         let t_upload = clock.lap();
 
-        // 2. Advantages of the env reward, with the env critic as it stands.
+        // 2. Advantages of the improvement step's reward, with the env critic as it stands:
+        //    the env's, or env·r + λ·(−log D) where `[reward]` mixes in the discriminator's
+        //    (GAIL, POfD).
         let (engine, config) = (&self.resources.engine, &self.config);
+        let mixed = self.learner.guidance.as_ref().and_then(|g| {
+            (config.reward.discriminator > 0.0).then(|| g.discriminator_rewards(engine, batch))?
+        });
+        let rewards = match &mixed {
+            Some(r_c) => Cow::Owned(config.reward.mix(&batch.rewards, &r_c.rewards)),
+            None => Cow::Borrowed(&batch.rewards),
+        };
         let env = in_phase("advantages", || {
             advantages(
                 engine,
@@ -59,7 +71,7 @@ impl<E: Engine> Trainer<E> {
                 &self.learner.critics.env,
                 batch,
                 &obs,
-                &batch.rewards,
+                &rewards,
             )
         });
         let data = StepBatch {
@@ -78,10 +90,16 @@ impl<E: Engine> Trainer<E> {
         self.learner.samples += batch.len();
         // 4-8.
         let rewardless = batch.rewards.iter().all(|&r| r == 0.0);
+        // The discriminator learns from this batch's pairs wherever its reward was used.
+        let discriminator_inputs = guidance
+            .as_ref()
+            .and_then(|s| s.discriminator_inputs.as_ref())
+            .or(mixed.as_ref().and_then(|r| r.discriminator_inputs.as_ref()));
         let inputs = StepInputs {
             k,
             data: &data,
             stream: guidance.as_ref(),
+            discriminator_inputs,
             skip_improvement: self.config.skip_improvement_without_reward && rewardless,
         };
         let later = self
@@ -141,7 +159,8 @@ impl<E: Engine> Trainer<E> {
         batch: &Batch,
         data: &StepBatch<E>,
     ) -> Result<Option<GuidanceStream<E>>, TrainError> {
-        let Some(g) = self.learner.guidance.as_mut() else {
+        let step = self.config.guidance.as_ref().is_some_and(|g| g.step);
+        let Some(g) = self.learner.guidance.as_mut().filter(|_| step) else {
             return Ok(None);
         };
         g.schedule.update(k, decay_signal(&self.config, batch)?);
@@ -299,6 +318,8 @@ struct StepInputs<'a, E: Engine> {
     k: usize,
     data: &'a StepBatch<E>,
     stream: Option<&'a GuidanceStream<E>>,
+    /// The batch's pairs as the discriminator's inputs, where its reward was used.
+    discriminator_inputs: Option<&'a E::Rows>,
     /// `skip_improvement_without_reward` on a batch without env reward.
     skip_improvement: bool,
 }
@@ -327,7 +348,7 @@ fn policy_steps<E: Engine>(
         _ => None,
     };
     let t_guidance = clock.lap();
-    let disc_loss = discriminator_step(engine, guidance, inputs.stream)?;
+    let disc_loss = discriminator_step(engine, guidance, inputs.discriminator_inputs)?;
     Ok(PolicySteps {
         improvement,
         guidance: guidance_stats,
@@ -383,9 +404,8 @@ fn guidance_step<E: Engine>(
 fn discriminator_step<E: Engine>(
     engine: &E,
     guidance: Option<&mut Guidance<E>>,
-    stream: Option<&GuidanceStream<E>>,
+    inputs: Option<&E::Rows>,
 ) -> Result<Option<f64>, TrainError> {
-    let inputs = stream.and_then(|s| s.discriminator_inputs.as_ref());
     let loss = in_phase("discriminator", || {
         guidance.and_then(|g| g.train_discriminator(engine, inputs))
     });

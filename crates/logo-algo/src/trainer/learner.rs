@@ -47,7 +47,7 @@ impl<E: Engine> Learner<E> {
         let (guidance, guidance_critic) = match (&config.guidance, &state.guidance) {
             (Some(g), Some(learned)) => {
                 let (g, critic) = guidance(engine, config, g, networks, learned, demos)?;
-                (Some(g), Some(critic))
+                (Some(g), critic)
             }
             (None, None) => (None, None),
             _ => unreachable!("checked on load: a guidance state exactly with [guidance]"),
@@ -147,8 +147,8 @@ impl<E: Engine> Learner<E> {
     }
 }
 
-/// LOGO's guidance and its critic as `learned` left them: a discriminator on `demos`, or
-/// a known behaviour policy.
+/// LOGO's guidance and its critic (where the guidance step runs) as `learned` left them:
+/// a discriminator on `demos`, or a known behaviour policy.
 fn guidance<E: Engine>(
     engine: &E,
     config: &TrainConfig,
@@ -156,14 +156,16 @@ fn guidance<E: Engine>(
     networks: &Networks,
     learned: &GuidanceState,
     demos: Option<&Demonstrations>,
-) -> Result<(Guidance<E>, CriticSet<E>), TrainError> {
-    let critic_config = config.guidance_critic().expect("guidance has a critic");
-    let nets = networks
-        .guidance_critic
-        .as_ref()
-        .expect("guidance has a critic");
-    let mut critic = CriticSet::new(engine, critic_config, nets);
-    critic.adam = learned.critic_adam.clone();
+) -> Result<(Guidance<E>, Option<CriticSet<E>>), TrainError> {
+    // The guidance step's critic (none without the step: GAIL, POfD).
+    let critic = config
+        .guidance_critic()
+        .zip(networks.guidance_critic.as_ref())
+        .map(|(critic_config, nets)| {
+            let mut critic = CriticSet::new(engine, critic_config, nets);
+            critic.adam = learned.critic_adam.clone();
+            critic
+        });
     let signal = match (&g.behaviour_policy, demos, &networks.discriminator) {
         (Some(path), _, _) => GuidanceSignal::Behaviour(Policy::from_module(
             engine,
@@ -185,7 +187,10 @@ fn guidance<E: Engine>(
     let guidance = Guidance {
         signal,
         schedule: learned.schedule.clone(),
-        update: config.guidance_update().expect("guidance").clone(),
+        update: config
+            .guidance_update()
+            .unwrap_or(&config.improvement)
+            .clone(),
         state: learned.update.clone(),
     };
     Ok((guidance, critic))

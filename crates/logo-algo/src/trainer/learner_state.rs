@@ -114,7 +114,7 @@ impl LearnerState {
             improvement: UpdateState::default(),
             critic_adam: vec![Adam::default(); config.critic.num_nets()],
             guidance: config.guidance.as_ref().map(|g| GuidanceState {
-                schedule: DeltaSchedule::new(g.delta0, g.alpha, g.warmup),
+                schedule: g.schedule(),
                 update: UpdateState::default(),
                 critic_adam: vec![
                     Adam::default();
@@ -357,7 +357,7 @@ impl ResumeRecord {
         }
         match (&self.schedule, &config.guidance) {
             (Some(schedule), Some(g)) => schedule
-                .check(g.delta0)
+                .check(g.schedule().delta)
                 .map_err(|e| format!("resume state schedule: {e}")),
             (None, Some(_)) => Err("resume state: no δ schedule for the guidance step".into()),
             _ => Ok(()),
@@ -419,7 +419,7 @@ impl Networks {
         let critic = critic_nets(&config.critic);
         let guidance_critic = config.guidance_critic().map(critic_nets);
         let discriminator = match &config.guidance {
-            Some(g) if g.demos.is_some() => {
+            Some(g) if g.demos.is_some() && g.step => {
                 Some(discriminator_module(g, obs_dim, act_dim, &device)?)
             }
             _ => None,
@@ -427,7 +427,7 @@ impl Networks {
         let observation_norm = config
             .normalise_observations
             .then(|| ObservationStats::new(obs_dim).module(&device));
-        let networks = Self {
+        let mut networks = Self {
             policy,
             critic,
             guidance_critic,
@@ -437,6 +437,17 @@ impl Networks {
         // burn initialises parameters lazily, at their first use: draw them all now, under
         // the lock, in a fixed order (the fields').
         let _ = params_to_vec(&networks);
+        // Without the guidance step (GAIL, POfD) the discriminator is drawn after the
+        // rest, so that the policy and critic start as TRPO's of the same seed.
+        if let Some(g) = config
+            .guidance
+            .as_ref()
+            .filter(|g| g.demos.is_some() && !g.step)
+        {
+            let discriminator = discriminator_module(g, obs_dim, act_dim, &device)?;
+            let _ = params_to_vec(&discriminator);
+            networks.discriminator = Some(discriminator);
+        }
         Ok(networks)
     }
 }

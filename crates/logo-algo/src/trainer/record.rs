@@ -70,11 +70,11 @@ impl<E: Engine> Trainer<E> {
             eval_moved: eval(|e| e.moved),
             eval_action_rms: eval(|e| e.action_rms),
             eval_success: eval(|e| e.success.unwrap_or(f64::NAN)),
-            delta_k: self
-                .learner
-                .guidance
-                .as_ref()
-                .map_or(0.0, |g| g.schedule.delta),
+            delta_k: match (&self.learner.guidance, self.config.guidance_update()) {
+                (Some(g), Some(_)) => g.schedule.delta,
+                // No guidance step: no δ_k (GAIL, POfD, TRPO).
+                _ => 0.0,
+            },
             guidance_reward: stream.map_or(f64::NAN, |s| s.mean_reward),
             mean_log_std: self.learner.policy.log_std.iter().sum::<f64>()
                 / self.learner.policy.act_dim() as f64,

@@ -1,0 +1,214 @@
+//! GAIL and POfD as configurations: the improvement step's reward mixes the env's with
+//! the discriminator's −log D (`[reward]`), and `[guidance] step = false` leaves out
+//! LOGO's second step. Each test can fail: it compares whole checkpoints' tensors.
+
+use std::path::Path;
+
+use logo_algo::discriminator::DiscriminatorTrainer;
+use logo_algo::{TrainConfig, Trainer};
+use logo_data::Demonstrations;
+use logo_nn::{Checkpoint, Cpu, DiscriminatorConfig, DiscriminatorInit, Kernels};
+use logo_testkit::{Tiny, scratch, workspace};
+
+/// `tiny` trained to its end in `dir`; the final checkpoint's tensors by name.
+fn train(tiny: Tiny, dir: &Path) -> Vec<(String, Vec<f64>)> {
+    let path = tiny
+        .lbfgs(3)
+        .with("iterations = 3\nseed = 5\nnum_envs = 2\nthreads = 1")
+        .write(&dir.join("config.toml"));
+    let mut trainer = Trainer::new(Kernels, TrainConfig::load(&path).unwrap(), dir).unwrap();
+    while !trainer.done() {
+        trainer.step().unwrap();
+    }
+    drop(trainer);
+    let ckpt = Checkpoint::load(&dir.join("checkpoint.safetensors")).unwrap();
+    let mut names: Vec<String> = ckpt.tensor_names().map(str::to_string).collect();
+    names.sort();
+    names
+        .into_iter()
+        .map(|n| {
+            let values = ckpt.tensor(&n).unwrap().1.to_vec();
+            (n, values)
+        })
+        .collect()
+}
+
+fn demos() -> String {
+    workspace()
+        .join("data/logo/inverted_double_pendulum")
+        .display()
+        .to_string()
+}
+
+/// `[guidance]` with the discriminator alone, and `[reward]`'s weights.
+fn discriminator_reward(tiny: Tiny, env: f64, discriminator: f64) -> Tiny {
+    tiny.set("guidance.demos", demos())
+        .set("guidance.step", false)
+        .set("reward.env", env)
+        .set("reward.discriminator", discriminator)
+}
+
+fn without(tensors: &[(String, Vec<f64>)], prefix: &str) -> Vec<(String, Vec<f64>)> {
+    tensors
+        .iter()
+        .filter(|(n, _)| !n.starts_with(prefix))
+        .cloned()
+        .collect()
+}
+
+#[test]
+fn pofd_with_lambda_zero_trains_as_trpo() {
+    let trpo = train(Tiny::trpo(), &scratch("trpo"));
+    let pofd = train(
+        discriminator_reward(Tiny::trpo(), 1.0, 0.0),
+        &scratch("pofd0"),
+    );
+    // The same policy and critic, bit for bit; POfD also keeps its discriminator.
+    assert!(pofd.iter().any(|(n, _)| n.starts_with("discriminator.")));
+    assert_eq!(without(&pofd, "discriminator."), trpo);
+    // With λ₁ > 0 the discriminator's reward moves the policy.
+    let pofd = train(
+        discriminator_reward(Tiny::trpo(), 1.0, 0.5),
+        &scratch("pofd"),
+    );
+    assert_ne!(without(&pofd, "discriminator."), trpo);
+}
+
+#[test]
+fn gail_does_not_read_the_env_reward() {
+    // Dense Hopper, and the same task whose reward is never paid (a 1000 m threshold):
+    // the same states, actions and discriminator, so GAIL trains to the same tensors.
+    let hopper_demos = workspace().join("data/logo/hopper").display().to_string();
+    let gail = |env: &str, name: &str| {
+        let tiny = Tiny::trpo()
+            .with(env)
+            .set("guidance.demos", hopper_demos.as_str())
+            .set("guidance.step", false)
+            .set("reward.env", 0.0)
+            .set("reward.discriminator", 1.0);
+        train(tiny, &scratch(name))
+    };
+    let paid = gail("env = \"Hopper-v4\"", "gail-dense");
+    let unpaid = gail(
+        "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"distance\", threshold = 1000.0 }",
+        "gail-unpaid",
+    );
+    assert_eq!(paid, unpaid);
+    // TRPO on the same two tasks does read it.
+    let trpo = |env: &str, name: &str| train(Tiny::trpo().with(env), &scratch(name));
+    assert_ne!(
+        trpo("env = \"Hopper-v4\"", "trpo-dense"),
+        trpo(
+            "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"distance\", threshold = 1000.0 }",
+            "trpo-unpaid"
+        )
+    );
+}
+
+#[test]
+fn without_the_guidance_step_logo_keys_are_refused_and_required_with_it() {
+    let dir = scratch("gail-keys");
+    let bad = discriminator_reward(Tiny::trpo(), 0.0, 1.0).set("guidance.delta0", 0.1);
+    let e = TrainConfig::load(&bad.write(&dir.join("a.toml"))).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("guidance.delta0 belongs to the guidance step"),
+        "{e}"
+    );
+    let missing = Tiny::trpo()
+        .set("guidance.demos", demos())
+        .set("guidance.alpha", 0.9)
+        .set("guidance.warmup", 0);
+    let e = TrainConfig::load(&missing.write(&dir.join("b.toml"))).unwrap_err();
+    assert!(e.to_string().contains("guidance.delta0 is required"), "{e}");
+    let no_discriminator = Tiny::trpo().set("reward.discriminator", 1.0);
+    let e = TrainConfig::load(&no_discriminator.write(&dir.join("c.toml"))).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("reward.discriminator needs a discriminator"),
+        "{e}"
+    );
+    let nothing = discriminator_reward(Tiny::trpo(), 0.0, 0.0);
+    let e = TrainConfig::load(&nothing.write(&dir.join("d.toml"))).unwrap_err();
+    assert!(e.to_string().contains("both 0"), "{e}");
+    // The names runs go by.
+    let name = |tiny: Tiny, file: &str| {
+        TrainConfig::load(&tiny.write(&dir.join(file)))
+            .unwrap()
+            .algorithm()
+    };
+    assert_eq!(
+        name(discriminator_reward(Tiny::trpo(), 0.0, 1.0), "g.toml"),
+        "GAIL"
+    );
+    assert_eq!(
+        name(discriminator_reward(Tiny::trpo(), 1.0, 0.1), "p.toml"),
+        "POfD"
+    );
+    assert_eq!(name(Tiny::logo(), "l.toml"), "LOGO");
+}
+
+#[test]
+fn minus_log_d_rewards_demonstration_like_pairs_more() {
+    let demos = Demonstrations::load(
+        &workspace().join("data/logo/inverted_double_pendulum"),
+        "InvertedDoublePendulum-v4",
+        11,
+        1,
+    )
+    .unwrap();
+    let device = Default::default();
+    let module = DiscriminatorConfig {
+        observe: 11,
+        act_dim: 1,
+        hidden: vec![16, 16],
+        init: DiscriminatorInit::Reference,
+    }
+    .init::<Cpu>(&device);
+    let mut d = DiscriminatorTrainer::new(&Kernels, &module, &demos, 3e-3, 1);
+    // "Policy" pairs: the demonstrations' states with the opposite actions.
+    let flipped: Vec<f64> = demos.actions.iter().map(|a| -a - 1.0).collect();
+    let policy = d.inputs(&Kernels, &demos.obs, &flipped);
+    let demo = d.inputs(&Kernels, &demos.obs, &demos.actions);
+    for _ in 0..200 {
+        d.update(&Kernels, &policy);
+    }
+    let mean = |v: Vec<f64>| v.iter().sum::<f64>() / v.len() as f64;
+    let on_demos = mean(d.rewards(&Kernels, &demo));
+    let on_policy = mean(d.rewards(&Kernels, &policy));
+    assert!(
+        on_demos > on_policy + 0.5,
+        "−log D: {on_demos} on the demonstrations against {on_policy} on the policy's pairs"
+    );
+}
+
+#[test]
+fn a_gail_run_resumes_exactly() {
+    let tiny = || {
+        discriminator_reward(Tiny::trpo(), 0.0, 1.0)
+            .lbfgs(3)
+            .with("iterations = 4\nseed = 2\ncheckpoint_every = 2\nthreads = 1")
+    };
+    let whole = scratch("gail-whole");
+    let path = tiny().write(&whole.join("config.toml"));
+    let mut trainer = Trainer::new(Kernels, TrainConfig::load(&path).unwrap(), &whole).unwrap();
+    while !trainer.done() {
+        trainer.step().unwrap();
+    }
+    drop(trainer);
+    let killed = scratch("gail-killed");
+    let path = tiny().write(&killed.join("config.toml"));
+    let mut trainer = Trainer::new(Kernels, TrainConfig::load(&path).unwrap(), &killed).unwrap();
+    for _ in 0..3 {
+        trainer.step().unwrap();
+    }
+    drop(trainer);
+    let mut resumed = Trainer::resume(Kernels, &killed, None).unwrap();
+    assert_eq!(resumed.iteration(), 2);
+    while !resumed.done() {
+        resumed.step().unwrap();
+    }
+    drop(resumed);
+    let bytes = |dir: &Path| std::fs::read(dir.join("checkpoint.safetensors")).unwrap();
+    assert_eq!(bytes(&whole), bytes(&killed));
+}
