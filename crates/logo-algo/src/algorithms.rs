@@ -1,5 +1,9 @@
 //! The algorithms logo-rl trains, one line each: what `logo algorithms` prints. Each is a
-//! configuration of the one trainer (a folder of `configs/` per task), or `logo bc`.
+//! configuration of the one trainer (a folder of `configs/` per task), or `logo bc`;
+//! [`configure`] makes each baseline from a LOGO config (`logo compare`).
+
+use crate::bc::{InitConfig, InitKind};
+use crate::config::{DecaySignal, GuidanceConfig, RewardConfig, TrainConfig};
 
 /// One algorithm: its name, what it is in a line, where it comes from, and how to run it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -140,3 +144,73 @@ mod tests {
         }
     }
 }
+
+/// The algorithms `logo compare` (and [`configure`]) can make from one LOGO config.
+pub const COMPARABLE: [&str; 5] = ["logo", "trpo", "gail", "pofd", "bc-trpo"];
+
+/// `base`, a LOGO config (its task, budget, networks, TRPO settings and demonstrations),
+/// made into algorithm `name` by the keys that make that algorithm and nothing else: the
+/// same task and settings, so that the runs differ by their algorithm alone.
+pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> {
+    let guidance = base
+        .guidance
+        .as_ref()
+        .filter(|g| g.step && g.demos.is_some())
+        .ok_or_else(|| {
+            "a comparison starts from a LOGO config: [guidance] with demos and its step \
+             (delta0, alpha, warmup)"
+                .to_string()
+        })?;
+    let mut config = TrainConfig {
+        init: InitConfig::default(),
+        reward: RewardConfig::default(),
+        guidance: None,
+        ..base.clone()
+    };
+    // GAIL's and POfD's discriminator is LOGO's, without the guidance step.
+    let discriminator_alone = || GuidanceConfig {
+        step: false,
+        delta0: None,
+        alpha: None,
+        warmup: None,
+        update: None,
+        critic: None,
+        decay_on: DecaySignal::default(),
+        ..guidance.clone()
+    };
+    match name {
+        "logo" => config.guidance = Some(guidance.clone()),
+        "trpo" => {}
+        "bc-trpo" => {
+            config.init = InitConfig {
+                kind: InitKind::Bc,
+                demos: guidance.demos.clone(),
+                ..base.init.clone()
+            };
+        }
+        "gail" | "pofd" => {
+            config.guidance = Some(discriminator_alone());
+            config.reward = match name {
+                "gail" => RewardConfig {
+                    env: 0.0,
+                    discriminator: 1.0,
+                },
+                _ => RewardConfig {
+                    env: 1.0,
+                    discriminator: POFD_LAMBDA,
+                },
+            };
+        }
+        other => {
+            return Err(format!(
+                "unknown algorithm {other:?}: expected one of {}",
+                COMPARABLE.join(", ")
+            ));
+        }
+    }
+    config.validate()?;
+    Ok(config)
+}
+
+/// POfD's λ₁ in `configs/pofd/` and `logo compare` (docs/algorithms.md says why).
+pub const POFD_LAMBDA: f64 = 0.1;

@@ -4,7 +4,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use logo_cli::{bc, data, eval, rollout, train};
-use logo_lab::{bench, plot, summary, sweep};
+use logo_lab::{bench, compare, plot, summary, sweep};
 
 #[derive(Parser)]
 #[command(
@@ -40,6 +40,9 @@ enum Command {
     /// Run configs x seeds, locally or as a Slurm job array; skips finished runs and
     /// resumes interrupted ones.
     Sweep(sweep::SweepArgs),
+    /// Compare LOGO with the baselines on a task of your own: every method from one LOGO
+    /// config, seeds through `logo sweep`, then report.md and figure.png.
+    Compare(compare::CompareArgs),
     /// Plot dense evaluation return against samples: mean ± std over seeds per config.
     Plot(plot::PlotArgs),
     /// The numbers behind a figure: final, peak and late returns per config, mean ± std
@@ -120,6 +123,7 @@ fn main() -> ExitCode {
         Command::Bench(cmd) => bench::run(&cmd),
         Command::Data(cmd) => data::run(&cmd),
         Command::Sweep(args) => sweep::run(&args),
+        Command::Compare(args) => compare::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Summary(args) => summary::run(&args),
         Command::SweepTask(args) => sweep::run_task(&args),

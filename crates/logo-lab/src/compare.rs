@@ -1,0 +1,205 @@
+//! `logo compare --config my_task.toml`: the user's question, "is LOGO the right method
+//! for my sparse task and my demonstrations?", in one command. Each algorithm is made from
+//! the one LOGO config (`logo_algo::algorithms::configure`: same task, settings and
+//! demonstrations), the runs go through `logo sweep` (finished runs skipped, interrupted
+//! ones resumed, local jobs or a Slurm array), and the folder gets `report.md` (IQM with
+//! 95% intervals per method, P(LOGO > method)) and `figure.png` (a curve per method with
+//! its 95% band).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, ensure};
+use clap::{Args, Command, FromArgMatches};
+use logo_algo::TrainConfig;
+use logo_algo::algorithms::{COMPARABLE, configure};
+use logo_engine::EngineArgs;
+use logo_stats::Bootstrap;
+
+use crate::plot::PlotArgs;
+use crate::runs::{EVAL_RETURN, Metric, discover, parse_max_samples};
+use crate::summary::{AtRule, compare_table, intervals_table, table};
+use crate::sweep::{self, SweepArgs};
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// A LOGO config of the task (its env, budget, settings and `[guidance] demos`).
+    #[arg(long)]
+    config: PathBuf,
+    /// The algorithms, comma-separated: logo, trpo, gail, pofd, bc-trpo.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "logo,trpo,gail,pofd,bc-trpo"
+    )]
+    algorithms: Vec<String>,
+    /// Seeds: a range `0..5` (5 excluded), `0..=4`, a list `0,2,7`.
+    #[arg(long, default_value = "0..5")]
+    seeds: String,
+    /// The budget in samples per run (e.g. 2M): iterations = ⌈samples / the config's
+    /// samples_per_iter⌉. Default: the config's iterations.
+    #[arg(long, value_parser = parse_max_samples)]
+    samples: Option<f64>,
+    /// Overrides the budget as a number of iterations.
+    #[arg(long, conflicts_with = "samples")]
+    iterations: Option<usize>,
+    /// The comparison's folder (default: runs/compare-<config name>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Runs at a time.
+    #[arg(long, default_value_t = 1)]
+    jobs: usize,
+    /// Threads for all runs together (default: the machine's cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Also give the samples each method's seeds needed to reach this return.
+    #[arg(long)]
+    target: Option<f64>,
+    /// Write a Slurm job array instead of running locally (`logo compare` again, once
+    /// the array is done, writes the report).
+    #[arg(long)]
+    slurm: bool,
+    /// Resamples of the bootstrap behind every interval.
+    #[arg(long, default_value_t = 20_000)]
+    reps: usize,
+    #[command(flatten)]
+    engine: EngineArgs,
+}
+
+/// Parses `args` as the subcommand `T` (`sweep`, `plot`) would be parsed on the command
+/// line, so that compare runs them exactly as a user would.
+fn as_subcommand<T: Args + FromArgMatches>(name: &'static str, args: &[String]) -> Result<T> {
+    let matches = T::augment_args(Command::new(name))
+        .try_get_matches_from(std::iter::once(name.to_string()).chain(args.iter().cloned()))
+        .with_context(|| format!("logo {name} {}", args.join(" ")))?;
+    Ok(T::from_arg_matches(&matches)?)
+}
+
+pub fn run(args: &CompareArgs) -> Result<()> {
+    ensure!(!args.algorithms.is_empty(), "--algorithms names none");
+    for name in &args.algorithms {
+        ensure!(
+            COMPARABLE.contains(&name.as_str()),
+            "--algorithms: unknown algorithm {name:?}: expected some of {}",
+            COMPARABLE.join(", ")
+        );
+    }
+    ensure!(args.reps >= 1, "--reps must be at least 1");
+    let mut base = TrainConfig::load(&args.config)?;
+    if let Some(samples) = args.samples {
+        ensure!(samples >= 1.0, "--samples must be at least 1");
+        base.iterations = (samples / base.samples_per_iter as f64).ceil() as usize;
+    }
+    if let Some(iterations) = args.iterations {
+        ensure!(iterations > 0, "--iterations must be at least 1");
+        base.iterations = iterations;
+    }
+    let budget = (base.iterations * base.samples_per_iter) as f64;
+    let out = args.out.clone().unwrap_or_else(|| {
+        let stem = args
+            .config
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy();
+        PathBuf::from(format!("runs/compare-{stem}"))
+    });
+    // One config per algorithm; a sweep names its runs after the files.
+    let configs_dir = out.join("configs");
+    std::fs::create_dir_all(&configs_dir).with_context(|| format!("{}", configs_dir.display()))?;
+    let mut configs = Vec::new();
+    for name in &args.algorithms {
+        let config = configure(&base, name)
+            .map_err(|e| anyhow::anyhow!("{}: as {name}: {e}", args.config.display()))?;
+        let path = configs_dir.join(format!("{name}.toml"));
+        let text = format!(
+            "# {name}, made by `logo compare` from {}\n{}",
+            args.config.display(),
+            config.to_toml()?
+        );
+        std::fs::write(&path, text).with_context(|| format!("{}", path.display()))?;
+        configs.push(path.display().to_string());
+    }
+    let mut sweep_args = configs.clone();
+    sweep_args.extend([
+        "--seeds".into(),
+        args.seeds.clone(),
+        "--out".into(),
+        out.display().to_string(),
+        "--jobs".into(),
+        args.jobs.to_string(),
+    ]);
+    if let Some(threads) = args.threads {
+        sweep_args.extend(["--threads".into(), threads.to_string()]);
+    }
+    if args.slurm {
+        sweep_args.push("--slurm".into());
+    }
+    sweep_args.extend(args.engine.to_args());
+    sweep::run(&as_subcommand::<SweepArgs>("sweep", &sweep_args)?)?;
+    if args.slurm {
+        println!(
+            "compare: the runs are an array to submit; `logo compare` with the same flags, \
+             once it is done, writes the report"
+        );
+        return Ok(());
+    }
+    let report = report(args, &out, budget)?;
+    let path = out.join("report.md");
+    std::fs::write(&path, &report).with_context(|| format!("{}", path.display()))?;
+    let figure = out.join("figure.png");
+    let plot_args = [
+        out.display().to_string(),
+        "--out".into(),
+        figure.display().to_string(),
+        "--stat".into(),
+        "iqm".into(),
+    ];
+    crate::plot::run(&as_subcommand::<PlotArgs>("plot", &plot_args)?)?;
+    println!("compare: {} and {}", path.display(), figure.display());
+    Ok(())
+}
+
+/// `report.md`: the methods' returns at the budget, over seeds with intervals, and LOGO
+/// against each other method.
+fn report(args: &CompareArgs, out: &Path, budget: f64) -> Result<String> {
+    let metric = Metric {
+        column: EVAL_RETURN.into(),
+        log10: false,
+    };
+    let runs = discover(&[out.to_path_buf()], &metric)?;
+    let at = [budget];
+    let bootstrap = Bootstrap::with_reps(args.reps);
+    let mut text = format!(
+        "# {}: {}\n\nMade by `logo compare --config {} --algorithms {} --seeds {}` with a \
+         budget of {budget:.0} samples per run. Each method is the config made into it by \
+         its own keys alone (the configs are in `configs/`; `docs/algorithms.md`). Returns \
+         are the dense evaluation's (metrics.csv's `eval_dense_return`).\n\n",
+        args.config.display(),
+        args.algorithms.join(", "),
+        args.config.display(),
+        args.algorithms.join(","),
+        args.seeds,
+    );
+    text.push_str(&table(&runs, &at, AtRule::Interpolate, args.target)?);
+    text.push('\n');
+    text.push_str(&intervals_table(
+        &runs,
+        &at,
+        AtRule::Interpolate,
+        &bootstrap,
+    ));
+    if args.algorithms.iter().any(|a| a == "logo") {
+        for other in args.algorithms.iter().filter(|a| *a != "logo") {
+            text.push('\n');
+            text.push_str(&compare_table(
+                &runs,
+                "logo",
+                other,
+                &at,
+                AtRule::Interpolate,
+                &bootstrap,
+            )?);
+        }
+    }
+    text.push_str("\n![the methods' curves: IQM over seeds with 95% bands](figure.png)\n");
+    Ok(text)
+}
