@@ -111,40 +111,6 @@ pub fn table() -> String {
         .collect()
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Each algorithm's configs exist for the four LOGO tasks (a renamed folder fails here).
-    #[test]
-    fn every_listed_config_folder_has_the_four_tasks() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-        for a in ALGORITHMS.iter().filter(|a| a.run.starts_with("configs/")) {
-            for task in [
-                "hopper",
-                "walker2d",
-                "halfcheetah",
-                "inverted_double_pendulum",
-            ] {
-                let path = root.join(a.run).join(format!("{task}.toml"));
-                assert!(path.is_file(), "{}: {} is missing", a.name, path.display());
-            }
-        }
-        let names: Vec<_> = ALGORITHMS.iter().map(|a| a.name).collect();
-        for name in [
-            "trpo",
-            "logo",
-            "bc",
-            "bc-trpo",
-            "gail",
-            "pofd",
-            "logo-ppo-cdq",
-        ] {
-            assert!(names.contains(&name), "{name} is not listed");
-        }
-    }
-}
-
 /// The algorithms `logo compare` (and [`configure`]) can make from one LOGO config.
 pub const COMPARABLE: [&str; 5] = ["logo", "trpo", "gail", "pofd", "bc-trpo"];
 
@@ -214,3 +180,37 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
 
 /// POfD's λ₁ in `configs/pofd/` and `logo compare` (docs/algorithms.md says why).
 pub const POFD_LAMBDA: f64 = 0.1;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each algorithm's configs exist for the four LOGO tasks (a renamed folder fails here).
+    #[test]
+    fn every_listed_config_folder_has_the_four_tasks() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        for a in ALGORITHMS.iter().filter(|a| a.run.starts_with("configs/")) {
+            for task in [
+                "hopper",
+                "walker2d",
+                "halfcheetah",
+                "inverted_double_pendulum",
+            ] {
+                let path = root.join(a.run).join(format!("{task}.toml"));
+                assert!(path.is_file(), "{}: {} is missing", a.name, path.display());
+            }
+        }
+        let names: Vec<_> = ALGORITHMS.iter().map(|a| a.name).collect();
+        for name in [
+            "trpo",
+            "logo",
+            "bc",
+            "bc-trpo",
+            "gail",
+            "pofd",
+            "logo-ppo-cdq",
+        ] {
+            assert!(names.contains(&name), "{name} is not listed");
+        }
+    }
+}

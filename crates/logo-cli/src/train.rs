@@ -266,11 +266,8 @@ fn train<E: Engine>(engine: E, job: Job, console: &mut dyn Console) -> Result<Pa
             .map_err(|e| anyhow::anyhow!("{e}"))?;
     }
     console.say(&start_line(&trainer, &out));
-    if let Some(r) = trainer.behaviour_cloning() {
-        console.say(&format!(
-            "started from behaviour cloning on {} pairs: −log π(a|s) {:.3} → {:.3} in {} Adam steps",
-            r.pairs, r.loss_before, r.loss_after, r.steps
-        ));
+    if let Some(line) = cloning_line(&trainer) {
+        console.say(&line);
     }
     let total = trainer.config.iterations;
     let mut last = None;
@@ -331,6 +328,15 @@ fn train<E: Engine>(engine: E, job: Job, console: &mut dyn Console) -> Result<Pa
     ));
     end_of_run_evaluation(&trainer, &out, console)?;
     Ok(out)
+}
+
+/// What `[init] kind = "bc"` did before the first iteration, if it ran.
+fn cloning_line<E: Engine>(trainer: &Trainer<E>) -> Option<String> {
+    let r = trainer.behaviour_cloning()?;
+    Some(format!(
+        "started from behaviour cloning on {} pairs: −log π(a|s) {:.3} → {:.3} in {} Adam steps",
+        r.pairs, r.loss_before, r.loss_after, r.steps
+    ))
 }
 
 /// Writes the run's checkpoint now (a run stopped early); returns its path.

@@ -102,23 +102,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
             .to_string_lossy();
         PathBuf::from(format!("runs/compare-{stem}"))
     });
-    // One config per algorithm; a sweep names its runs after the files.
-    let configs_dir = out.join("configs");
-    std::fs::create_dir_all(&configs_dir).with_context(|| format!("{}", configs_dir.display()))?;
-    let mut configs = Vec::new();
-    for name in &args.algorithms {
-        let config = configure(&base, name)
-            .map_err(|e| anyhow::anyhow!("{}: as {name}: {e}", args.config.display()))?;
-        let path = configs_dir.join(format!("{name}.toml"));
-        let text = format!(
-            "# {name}, made by `logo compare` from {}\n{}",
-            args.config.display(),
-            config.to_toml()?
-        );
-        std::fs::write(&path, text).with_context(|| format!("{}", path.display()))?;
-        configs.push(path.display().to_string());
-    }
-    let mut sweep_args = configs.clone();
+    let mut sweep_args = write_configs(args, &base, &out)?;
     sweep_args.extend([
         "--seeds".into(),
         args.seeds.clone(),
@@ -156,6 +140,27 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     crate::plot::run(&as_subcommand::<PlotArgs>("plot", &plot_args)?)?;
     println!("compare: {} and {}", path.display(), figure.display());
     Ok(())
+}
+
+/// One config per algorithm in `out/configs/` (a sweep names its runs after the files);
+/// their paths.
+fn write_configs(args: &CompareArgs, base: &TrainConfig, out: &Path) -> Result<Vec<String>> {
+    let configs_dir = out.join("configs");
+    std::fs::create_dir_all(&configs_dir).with_context(|| format!("{}", configs_dir.display()))?;
+    let mut configs = Vec::new();
+    for name in &args.algorithms {
+        let config = configure(base, name)
+            .map_err(|e| anyhow::anyhow!("{}: as {name}: {e}", args.config.display()))?;
+        let path = configs_dir.join(format!("{name}.toml"));
+        let text = format!(
+            "# {name}, made by `logo compare` from {}\n{}",
+            args.config.display(),
+            config.to_toml()?
+        );
+        std::fs::write(&path, text).with_context(|| format!("{}", path.display()))?;
+        configs.push(path.display().to_string());
+    }
+    Ok(configs)
 }
 
 /// `report.md`: the methods' returns at the budget, over seeds with intervals, and LOGO

@@ -31,7 +31,7 @@ use super::recorder::Stopwatch;
 use super::resources::{Collected, Resources};
 use crate::config::{DecaySignal, TrainConfig};
 use crate::episode::Evaluation;
-use crate::guidance::Guidance;
+use crate::guidance::{Guidance, GuidanceReward};
 use crate::metrics::IterationMetrics;
 use crate::policy_update::{StepBatch, StopReason, UpdateState, UpdateStats};
 use crate::run_dir::TrainError;
@@ -53,27 +53,9 @@ impl<E: Engine> Trainer<E> {
         let (obs, actions, logp_k) = in_phase("sampling", || self.upload(batch));
         let t_upload = clock.lap();
 
-        // 2. Advantages of the improvement step's reward, with the env critic as it stands:
-        //    the env's, or env·r + λ·(−log D) where `[reward]` mixes in the discriminator's
-        //    (GAIL, POfD).
-        let (engine, config) = (&self.resources.engine, &self.config);
-        let mixed = self.learner.guidance.as_ref().and_then(|g| {
-            (config.reward.discriminator > 0.0).then(|| g.discriminator_rewards(engine, batch))?
-        });
-        let rewards = match &mixed {
-            Some(r_c) => Cow::Owned(config.reward.mix(&batch.rewards, &r_c.rewards)),
-            None => Cow::Borrowed(&batch.rewards),
-        };
-        let env = in_phase("advantages", || {
-            advantages(
-                engine,
-                config,
-                &self.learner.critics.env,
-                batch,
-                &obs,
-                &rewards,
-            )
-        });
+        // 2. Advantages of the improvement step's reward, with the env critic as it stands.
+        let (env, mixed) = in_phase("advantages", || self.improvement_advantages(batch, &obs));
+        let engine = &self.resources.engine;
         let data = StepBatch {
             advantages: engine.upload(&env.normalised, [batch.len()]),
             obs,
@@ -111,6 +93,27 @@ impl<E: Engine> Trainer<E> {
             ..IterationMetrics::default()
         };
         self.record(k, row, batch, guidance.as_ref(), later)
+    }
+
+    /// Step 2: the advantages of the improvement step's reward with the env critic as it
+    /// stands. The reward is the env's, or env·r + λ·(−log D) where `[reward]` mixes in
+    /// the discriminator's (GAIL, POfD); then also r_C and the discriminator's inputs.
+    fn improvement_advantages(
+        &self,
+        batch: &Batch,
+        obs: &E::Rows,
+    ) -> (Advantages, Option<GuidanceReward<E>>) {
+        let (engine, config) = (&self.resources.engine, &self.config);
+        let mixed = self.learner.guidance.as_ref().and_then(|g| {
+            (config.reward.discriminator > 0.0).then(|| g.discriminator_rewards(engine, batch))?
+        });
+        let rewards = match &mixed {
+            Some(r_c) => Cow::Owned(config.reward.mix(&batch.rewards, &r_c.rewards)),
+            None => Cow::Borrowed(&batch.rewards),
+        };
+        let critic = &self.learner.critics.env;
+        let env = advantages(engine, config, critic, batch, obs, &rewards);
+        (env, mixed)
     }
 
     /// A batch collected with the policy as it stands.

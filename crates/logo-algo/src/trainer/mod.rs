@@ -59,7 +59,7 @@ impl<E: Engine> Trainer<E> {
         let factory = config.env.factory()?;
         let spec = factory.spec();
         let mut state = LearnerState::initial(&config, spec.obs_dim, spec.act_dim)?;
-        let cloned = behaviour_clone(&engine, &config, &spec, &mut state.networks)?;
+        let cloned = behaviour_clone(&engine, &config, spec, &mut state.networks)?;
         if let Some(report) = &cloned {
             let path = run.path().join("bc.json");
             std::fs::write(&path, serde_json::to_string_pretty(report)?)
