@@ -309,3 +309,23 @@ pub fn bc(
         }
     }
 }
+
+/// The config (as [`config`] reads it) made into algorithm `name` by its own keys
+/// (`logo compare`'s configs), as TOML text.
+#[pyfunction]
+#[pyo3(signature = (*, name, config = None, table_json = "{}", base = PathBuf::from(".")))]
+pub fn configure(
+    name: &str,
+    config: Option<PathBuf>,
+    table_json: &str,
+    base: PathBuf,
+) -> PyResult<String> {
+    let origin = config.clone();
+    let loaded = self::config(config, table_json, base)?;
+    let made = logo_algo::algorithms::configure(&loaded, name).map_err(|e| {
+        let origin = origin.map_or("<config dict>".into(), |p| p.display().to_string());
+        PyValueError::new_err(format!("{origin}: as {name}: {e}"))
+    })?;
+    made.to_toml()
+        .map_err(|e| crate::errors::LogoError::new_err(e.to_string()))
+}

@@ -5,6 +5,7 @@ logo-rl's Rust trainer, its Gymnasium-exact MuJoCo envs and its trained policies
 - ``import logo_rl`` registers every env of ``logo envs`` with Gymnasium as
   ``logo_rl/<id>`` (``gymnasium.make("logo_rl/SparseHopper-v4")``);
 - :func:`train` runs ``logo train`` in this process and returns a :class:`Run`;
+- :func:`compare` sets LOGO beside the baselines on a task (``logo compare``);
 - :func:`bc` fits a policy to demonstrations (behaviour cloning, ``logo bc``);
 - :func:`load` opens a checkpoint's policy (:class:`Policy`);
 - :class:`LogoVectorEnv`: N copies of an env on Rust threads, Gymnasium's VectorEnv API;
@@ -31,6 +32,7 @@ _os.environ.setdefault("LOGO_MODELS_DIR", _models_dir())
 
 from ._logo_rl import MUJOCO_VERSION, LogoError, __version__, env_ids  # noqa: E402
 from .bc import Cloned, bc  # noqa: E402
+from .compare import compare  # noqa: E402
 from .envs import LogoEnv, register_envs  # noqa: E402
 from .policy import Policy, load  # noqa: E402
 from .presets import presets  # noqa: E402
@@ -55,6 +57,7 @@ __all__ = [
     "Success",
     "__version__",
     "bc",
+    "compare",
     "env_ids",
     "load",
     "presets",

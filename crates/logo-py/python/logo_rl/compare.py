@@ -1,0 +1,150 @@
+"""``logo_rl.compare``: ``logo compare`` from Python: every method made from one LOGO
+config, each seed trained in this process, and the answer as a table."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from . import _logo_rl
+from .run import train
+from .presets import preset_path
+
+METHODS = ("logo", "trpo", "gail", "pofd", "bc-trpo")
+
+
+def compare(
+    config: str | os.PathLike | Mapping[str, Any],
+    *,
+    algorithms: Sequence[str] = METHODS,
+    seeds: Sequence[int] | int = 5,
+    samples: float | None = None,
+    out: str | os.PathLike | None = None,
+    reps: int = 20_000,
+    engine: str | None = None,
+    backend: str | None = None,
+    dtype: str | None = None,
+    progress: bool = True,
+):
+    """Trains each of ``algorithms`` on ``seeds`` from one LOGO ``config`` (a preset's
+    name, a TOML file or a dict), as ``logo compare`` does, and returns one row per
+    method: its seeds' returns at the budget, their interquartile mean (IQM) with a 95%
+    bootstrap interval, and P(LOGO > method) with its interval.
+
+    Each method is the config made into it by its own keys alone (``trpo`` drops
+    ``[guidance]``, ``bc-trpo`` clones the demonstrations first, ``gail`` and ``pofd``
+    keep the discriminator without the guidance step: docs/algorithms.md). Runs go to
+    ``out/<method>/seed<N>`` (default ``runs/compare-<config name>``); a finished run is
+    read, not trained again, and an interrupted one is resumed. ``samples``: the budget
+    per run (iterations = ⌈samples / samples_per_iter⌉), default the config's.
+
+    Returns a pandas DataFrame where pandas is installed, else a dict of columns.
+    """
+    algorithms = list(algorithms)
+    unknown = [a for a in algorithms if a not in METHODS]
+    if unknown or not algorithms:
+        raise ValueError(f"algorithms={algorithms!r}: expected some of {', '.join(METHODS)}")
+    seed_list = list(range(seeds)) if isinstance(seeds, int) else list(seeds)
+    if not seed_list or not all(isinstance(s, int) and s >= 0 for s in seed_list):
+        raise ValueError(f"seeds={seeds!r}: expected a count or a list of seeds ≥ 0")
+    if not (isinstance(reps, int) and reps >= 1):
+        raise ValueError(f"reps={reps!r}: expected an integer ≥ 1")
+    path, table, name = _config_arg(config)
+    out = Path(out) if out is not None else Path("runs") / f"compare-{name}"
+    (out / "configs").mkdir(parents=True, exist_ok=True)
+    budget = None
+    for method in algorithms:
+        text = _logo_rl.configure(
+            name=method,
+            config=path,
+            table_json=json.dumps(table),
+            base=os.getcwd(),
+        )
+        made = out / "configs" / f"{method}.toml"
+        made.write_text(f"# {method}, made by logo_rl.compare\n{text}")
+        per_iter = _value(text, "samples_per_iter")
+        iterations = _value(text, "iterations")
+        if samples is not None:
+            iterations = math.ceil(samples / per_iter)
+        budget = iterations * per_iter
+        for seed in seed_list:
+            _train_once(made, out / method / f"seed{seed}", seed, iterations,
+                        dict(engine=engine, backend=backend, dtype=dtype, progress=progress))
+    return _answer(out, algorithms, seed_list, budget, reps)
+
+
+def _config_arg(config):
+    """(file path or None, the dict's keys, a name for the folder)."""
+    if isinstance(config, Mapping):
+        return None, dict(config), "dict"
+    config = os.fspath(config)
+    if not os.path.exists(config) and not config.endswith(".toml"):
+        config = preset_path(config)
+    return config, {}, Path(config).stem
+
+
+def _value(toml_text: str, key: str) -> int:
+    for line in toml_text.splitlines():
+        if line.startswith(f"{key} = "):
+            return int(line.split("=", 1)[1])
+    raise ValueError(f"the made config has no {key}")
+
+
+def _train_once(config: Path, run_dir: Path, seed: int, iterations: int, common: dict) -> None:
+    """Trains the run unless it is done; resumes it where a checkpoint is."""
+    if (run_dir / "eval.json").is_file():
+        return
+    if (run_dir / "checkpoint.safetensors").is_file():
+        train(resume=run_dir, iterations=iterations, **common)
+    else:
+        train(config, seed=seed, iterations=iterations, out=run_dir, **common)
+
+
+def _returns_at(run_dir: Path, budget: float) -> float:
+    """The dense evaluation's return at `budget` samples, linear between evaluations."""
+    with open(run_dir / "metrics.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    x = np.array([float(r["samples"]) for r in rows])
+    y = np.array([float(r["eval_dense_return"]) for r in rows])
+    keep = ~np.isnan(y)
+    return float(np.interp(budget, x[keep], y[keep]))
+
+
+def _iqm(values: np.ndarray) -> float:
+    """The mean of the middle half (scipy's trim_mean at 25%, as rliable's IQM)."""
+    v = np.sort(values)
+    cut = int(math.floor(0.25 * len(v)))
+    return float(v[cut:len(v) - cut].mean())
+
+
+def _answer(out: Path, algorithms, seeds, budget, reps):
+    rng = np.random.default_rng(0)
+    returns = {m: np.array([_returns_at(out / m / f"seed{s}", budget) for s in seeds])
+               for m in algorithms}
+    rows = []
+    for m in algorithms:
+        x = returns[m]
+        boot = np.array([_iqm(rng.choice(x, len(x))) for _ in range(reps)])
+        row = {"method": m, "seeds": len(x), "samples": budget,
+               "returns": x.tolist(), "iqm": _iqm(x),
+               "iqm_lo": float(np.percentile(boot, 2.5)),
+               "iqm_hi": float(np.percentile(boot, 97.5))}
+        if "logo" in returns and m != "logo":
+            y = returns["logo"]
+            p = lambda a, b: float(np.mean((a[:, None] > b[None, :]) + 0.5 * (a[:, None] == b[None, :])))  # noqa: E731
+            draws = [p(rng.choice(y, len(y)), rng.choice(x, len(x))) for _ in range(reps)]
+            row.update(p_logo_better=p(y, x), p_lo=float(np.percentile(draws, 2.5)),
+                       p_hi=float(np.percentile(draws, 97.5)))
+        rows.append(row)
+    try:
+        import pandas
+    except ImportError:
+        keys = list(dict.fromkeys(key for row in rows for key in row))
+        return {key: [row.get(key) for row in rows] for key in keys}
+    return pandas.DataFrame(rows)

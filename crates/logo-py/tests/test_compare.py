@@ -1,0 +1,68 @@
+"""logo_rl.compare at toy scale: two methods, two seeds, two iterations."""
+
+import csv
+
+import numpy as np
+import pytest
+
+import logo_rl
+from conftest import ROOT
+
+TINY = {
+    "env": "SparseInvertedDoublePendulum-v4",
+    "iterations": 2,
+    "samples_per_iter": 300,
+    "policy_hidden": [16, 16],
+    "eval_steps": 100,
+    "critic": {"hidden": [16, 16], "fit": {"method": "lbfgs", "iterations": 3}},
+    "guidance": {
+        "demos": str(ROOT / "data/logo/inverted_double_pendulum"),
+        "delta0": 0.2,
+        "alpha": 0.9,
+        "warmup": 0,
+    },
+}
+
+
+def last_return(run_dir):
+    with open(run_dir / "metrics.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    return float(rows[-1]["eval_dense_return"]), float(rows[-1]["samples"])
+
+
+def column(table, key):
+    return list(table[key])
+
+
+def test_compare_trains_each_method_once_and_answers(tmp_path):
+    out = tmp_path / "cmp"
+    table = logo_rl.compare(TINY, algorithms=("logo", "trpo"), seeds=2, out=out, reps=200,
+                            progress=False)
+    assert column(table, "method") == ["logo", "trpo"]
+    assert column(table, "seeds") == [2, 2]
+    assert (out / "configs" / "trpo.toml").is_file()
+    for method, returns in zip(column(table, "method"), column(table, "returns")):
+        for seed, value in enumerate(returns):
+            last, samples = last_return(out / method / f"seed{seed}")
+            # At the budget (600 samples), between the last two evaluations.
+            assert samples >= 600
+            assert np.isfinite(value)
+        assert min(returns) <= column(table, "iqm")[column(table, "method").index(method)]
+    p = column(table, "p_logo_better")[1]
+    assert 0.0 <= p <= 1.0
+    # Again: the runs are read, not trained again.
+    stamp = (out / "logo" / "seed0" / "metrics.csv").stat().st_mtime_ns
+    again = logo_rl.compare(TINY, algorithms=("logo", "trpo"), seeds=2, out=out, reps=200,
+                            progress=False)
+    assert (out / "logo" / "seed0" / "metrics.csv").stat().st_mtime_ns == stamp
+    assert column(again, "iqm") == column(table, "iqm")
+
+
+def test_compare_misuse_is_a_python_error(tmp_path):
+    with pytest.raises(ValueError, match="dapg"):
+        logo_rl.compare(TINY, algorithms=("logo", "dapg"), out=tmp_path)
+    with pytest.raises(ValueError, match="seeds"):
+        logo_rl.compare(TINY, seeds=0, out=tmp_path)
+    trpo = {k: v for k, v in TINY.items() if k != "guidance"}
+    with pytest.raises(ValueError, match="LOGO config"):
+        logo_rl.compare(trpo, algorithms=("trpo",), out=tmp_path)
