@@ -127,6 +127,13 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
              (delta0, alpha, warmup)"
                 .to_string()
         })?;
+    if base.init_policy.is_some() {
+        return Err(
+            "init_policy: a comparison starts each method from the seed's \
+                    initialisation (bc-trpo from behaviour cloning); remove init_policy"
+                .into(),
+        );
+    }
     let mut config = TrainConfig {
         init: InitConfig::default(),
         reward: RewardConfig::default(),
@@ -145,7 +152,10 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
         ..guidance.clone()
     };
     match name {
-        "logo" => config.guidance = Some(guidance.clone()),
+        "logo" => {
+            config.guidance = Some(guidance.clone());
+            config.init = base.init.clone();
+        }
         "trpo" => {}
         "bc-trpo" => {
             config.init = InitConfig {

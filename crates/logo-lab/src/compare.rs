@@ -126,17 +126,27 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         );
         return Ok(());
     }
-    let report = report(args, &out, budget)?;
+    // The runs asked for, and no others an earlier call may have left in the folder.
+    let seeds = sweep::parse_seeds(&args.seeds)?;
+    let run_dirs: Vec<PathBuf> = args
+        .algorithms
+        .iter()
+        .flat_map(|a| {
+            let method = out.join(a);
+            seeds.iter().map(move |s| method.join(format!("seed{s}")))
+        })
+        .collect();
+    let report = report(args, &run_dirs, budget)?;
     let path = out.join("report.md");
     std::fs::write(&path, &report).with_context(|| format!("{}", path.display()))?;
     let figure = out.join("figure.png");
-    let plot_args = [
-        out.display().to_string(),
+    let mut plot_args: Vec<String> = run_dirs.iter().map(|d| d.display().to_string()).collect();
+    plot_args.extend([
         "--out".into(),
         figure.display().to_string(),
         "--stat".into(),
         "iqm".into(),
-    ];
+    ]);
     crate::plot::run(&as_subcommand::<PlotArgs>("plot", &plot_args)?)?;
     println!("compare: {} and {}", path.display(), figure.display());
     Ok(())
@@ -165,12 +175,12 @@ fn write_configs(args: &CompareArgs, base: &TrainConfig, out: &Path) -> Result<V
 
 /// `report.md`: the methods' returns at the budget, over seeds with intervals, and LOGO
 /// against each other method.
-fn report(args: &CompareArgs, out: &Path, budget: f64) -> Result<String> {
+fn report(args: &CompareArgs, run_dirs: &[PathBuf], budget: f64) -> Result<String> {
     let metric = Metric {
         column: EVAL_RETURN.into(),
         log10: false,
     };
-    let runs = discover(&[out.to_path_buf()], &metric)?;
+    let runs = discover(run_dirs, &metric)?;
     let at = [budget];
     let bootstrap = Bootstrap::with_reps(args.reps);
     let mut text = format!(

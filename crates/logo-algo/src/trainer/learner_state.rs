@@ -250,12 +250,15 @@ impl LearnerState {
     }
 }
 
-/// The algorithm a checkpoint's metadata names: "logo" with a guidance step, else "trpo".
+/// The algorithm a checkpoint's metadata names: "logo" with a guidance step, "gail" or
+/// "pofd" with the discriminator's reward alone or mixed in, else "trpo" (kept
+/// checkpoints name "logo" or "trpo", as runs of their configs still do).
 fn algorithm(config: &TrainConfig) -> &'static str {
-    if config.guidance.is_some() {
-        "logo"
-    } else {
-        "trpo"
+    match &config.guidance {
+        Some(g) if g.step => "logo",
+        Some(_) if config.reward.env == 0.0 => "gail",
+        Some(_) => "pofd",
+        None => "trpo",
     }
 }
 
@@ -471,8 +474,12 @@ fn initial_policy(
         }
         .init(device));
     };
-    let policy = match path.extension().and_then(|e| e.to_str()) {
-        Some("pt") => load_reference_policy::<Cpu>(path, device)?,
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_lowercase);
+    let policy = match extension.as_deref() {
+        Some("pt" | "pth") => load_reference_policy::<Cpu>(path, device)?,
         _ => checkpoint_policy(path, device)?,
     };
     if (policy.obs_dim(), policy.act_dim()) != (obs_dim, act_dim) {

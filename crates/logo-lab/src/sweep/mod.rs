@@ -18,8 +18,8 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, bail, ensure};
 use clap::Args;
 
-pub use plan::SweepArgs;
 use plan::{RunSpec, plan};
+pub use plan::{SweepArgs, parse_seeds};
 
 /// What happened to each run of a local sweep.
 enum Outcome {

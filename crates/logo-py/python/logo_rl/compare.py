@@ -13,7 +13,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from . import _logo_rl
-from .run import train
+from .run import _plain, train
 from .presets import preset_path
 
 METHODS = ("logo", "trpo", "gail", "pofd", "bc-trpo")
@@ -63,7 +63,7 @@ def compare(
         text = _logo_rl.configure(
             name=method,
             config=path,
-            table_json=json.dumps(table),
+            table_json=json.dumps(table, default=_plain),
             base=os.getcwd(),
         )
         made = out / "configs" / f"{method}.toml"
@@ -97,8 +97,9 @@ def _value(toml_text: str, key: str) -> int:
 
 
 def _train_once(config: Path, run_dir: Path, seed: int, iterations: int, common: dict) -> None:
-    """Trains the run unless it is done; resumes it where a checkpoint is."""
-    if (run_dir / "eval.json").is_file():
+    """Trains the run unless it has done `iterations`; resumes (extends) it where a
+    checkpoint is."""
+    if (run_dir / "eval.json").is_file() and _rows(run_dir) >= iterations:
         return
     if (run_dir / "checkpoint.safetensors").is_file():
         train(resume=run_dir, iterations=iterations, **common)
@@ -106,11 +107,18 @@ def _train_once(config: Path, run_dir: Path, seed: int, iterations: int, common:
         train(config, seed=seed, iterations=iterations, out=run_dir, **common)
 
 
+def _rows(run_dir: Path) -> int:
+    with open(run_dir / "metrics.csv", newline="") as f:
+        return sum(1 for _ in csv.DictReader(f))
+
+
 def _returns_at(run_dir: Path, budget: float) -> float:
     """The dense evaluation's return at `budget` samples, linear between evaluations."""
     with open(run_dir / "metrics.csv", newline="") as f:
         rows = list(csv.DictReader(f))
     x = np.array([float(r["samples"]) for r in rows])
+    if not rows or x[-1] < budget:
+        raise ValueError(f"{run_dir}: the run stops before {budget:.0f} samples")
     y = np.array([float(r["eval_dense_return"]) for r in rows])
     keep = ~np.isnan(y)
     return float(np.interp(budget, x[keep], y[keep]))
