@@ -51,6 +51,10 @@ pub struct CompareArgs {
     /// Threads for all runs together (default: the machine's cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Read the budget as each run's mean of its N evaluations nearest it (as `logo
+    /// summary --window`), instead of the one interpolated evaluation.
+    #[arg(long)]
+    window: Option<usize>,
     /// Also give the samples each method's seeds needed to reach this return.
     #[arg(long)]
     target: Option<f64>,
@@ -84,6 +88,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         );
     }
     ensure!(args.reps >= 1, "--reps must be at least 1");
+    ensure!(args.window != Some(0), "--window must be at least 1");
     let mut base = TrainConfig::load(&args.config)?;
     if let Some(samples) = args.samples {
         ensure!(samples >= 1.0, "--samples must be at least 1");
@@ -182,6 +187,7 @@ fn report(args: &CompareArgs, run_dirs: &[PathBuf], budget: f64) -> Result<Strin
     };
     let runs = discover(run_dirs, &metric)?;
     let at = [budget];
+    let rule = args.window.map_or(AtRule::Interpolate, AtRule::Window);
     let bootstrap = Bootstrap::with_reps(args.reps);
     let mut text = format!(
         "# {}: {}\n\nMade by `logo compare --config {} --algorithms {} --seeds {}` with a \
@@ -194,25 +200,13 @@ fn report(args: &CompareArgs, run_dirs: &[PathBuf], budget: f64) -> Result<Strin
         args.algorithms.join(","),
         args.seeds,
     );
-    text.push_str(&table(&runs, &at, AtRule::Interpolate, args.target)?);
+    text.push_str(&table(&runs, &at, rule, args.target)?);
     text.push('\n');
-    text.push_str(&intervals_table(
-        &runs,
-        &at,
-        AtRule::Interpolate,
-        &bootstrap,
-    ));
+    text.push_str(&intervals_table(&runs, &at, rule, &bootstrap));
     if args.algorithms.iter().any(|a| a == "logo") {
         for other in args.algorithms.iter().filter(|a| *a != "logo") {
             text.push('\n');
-            text.push_str(&compare_table(
-                &runs,
-                "logo",
-                other,
-                &at,
-                AtRule::Interpolate,
-                &bootstrap,
-            )?);
+            text.push_str(&compare_table(&runs, "logo", other, &at, rule, &bootstrap)?);
         }
     }
     text.push_str("\n![the methods' curves: IQM over seeds with 95% bands](figure.png)\n");
