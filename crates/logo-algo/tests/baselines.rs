@@ -181,34 +181,3 @@ fn minus_log_d_rewards_demonstration_like_pairs_more() {
         "−log D: {on_demos} on the demonstrations against {on_policy} on the policy's pairs"
     );
 }
-
-#[test]
-fn a_gail_run_resumes_exactly() {
-    let tiny = || {
-        discriminator_reward(Tiny::trpo(), 0.0, 1.0)
-            .lbfgs(3)
-            .with("iterations = 4\nseed = 2\ncheckpoint_every = 2\nthreads = 1")
-    };
-    let whole = scratch("gail-whole");
-    let path = tiny().write(&whole.join("config.toml"));
-    let mut trainer = Trainer::new(Kernels, TrainConfig::load(&path).unwrap(), &whole).unwrap();
-    while !trainer.done() {
-        trainer.step().unwrap();
-    }
-    drop(trainer);
-    let killed = scratch("gail-killed");
-    let path = tiny().write(&killed.join("config.toml"));
-    let mut trainer = Trainer::new(Kernels, TrainConfig::load(&path).unwrap(), &killed).unwrap();
-    for _ in 0..3 {
-        trainer.step().unwrap();
-    }
-    drop(trainer);
-    let mut resumed = Trainer::resume(Kernels, &killed, None).unwrap();
-    assert_eq!(resumed.iteration(), 2);
-    while !resumed.done() {
-        resumed.step().unwrap();
-    }
-    drop(resumed);
-    let bytes = |dir: &Path| std::fs::read(dir.join("checkpoint.safetensors")).unwrap();
-    assert_eq!(bytes(&whole), bytes(&killed));
-}

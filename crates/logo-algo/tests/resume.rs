@@ -7,11 +7,19 @@ use logo_algo::{TrainConfig, Trainer};
 use logo_nn::Kernels;
 use logo_testkit::{Tiny, metrics_without_timings, scratch};
 
-fn config(dir: &Path, guidance: bool) -> TrainConfig {
-    let tiny = match guidance {
+/// The run each test resumes: LOGO (`guidance`) or TRPO.
+fn algorithm(guidance: bool) -> Tiny {
+    match guidance {
         true => Tiny::logo().set("guidance.warmup", 1),
         false => Tiny::trpo(),
-    };
+    }
+}
+
+fn config(dir: &Path, guidance: bool) -> TrainConfig {
+    config_of(dir, algorithm(guidance))
+}
+
+fn config_of(dir: &Path, tiny: Tiny) -> TrainConfig {
     let path = tiny
         .lbfgs(4)
         .with("iterations = 5\nnum_envs = 3\nthreads = 2\neval_steps = 60")
@@ -20,17 +28,16 @@ fn config(dir: &Path, guidance: bool) -> TrainConfig {
     TrainConfig::load(&path).unwrap()
 }
 
-fn check(guidance: bool) {
-    let name = if guidance { "logo" } else { "trpo" };
+fn check(name: &str, tiny: Tiny) {
     let whole = scratch(&format!("{name}-whole"));
-    let mut trainer = Trainer::new(Kernels, config(&whole, guidance), &whole).unwrap();
+    let mut trainer = Trainer::new(Kernels, config_of(&whole, tiny.clone()), &whole).unwrap();
     while !trainer.done() {
         trainer.step().unwrap();
     }
     drop(trainer);
 
     let killed = scratch(&format!("{name}-killed"));
-    let mut trainer = Trainer::new(Kernels, config(&killed, guidance), &killed).unwrap();
+    let mut trainer = Trainer::new(Kernels, config_of(&killed, tiny), &killed).unwrap();
     for _ in 0..3 {
         trainer.step().unwrap(); // checkpoint after iteration 2, then one more row
     }
@@ -61,12 +68,24 @@ fn check(guidance: bool) {
 
 #[test]
 fn a_killed_logo_run_resumes_to_the_same_final_checkpoint() {
-    check(true);
+    check("logo", algorithm(true));
 }
 
 #[test]
 fn a_killed_trpo_run_resumes_to_the_same_final_checkpoint() {
-    check(false);
+    check("trpo", algorithm(false));
+}
+
+/// GAIL: the discriminator's reward alone, no guidance step.
+#[test]
+fn a_killed_gail_run_resumes_to_the_same_final_checkpoint() {
+    let demos = logo_testkit::workspace().join("data/logo/inverted_double_pendulum");
+    let gail = Tiny::trpo()
+        .set("guidance.demos", demos.to_str().expect("a UTF-8 path"))
+        .set("guidance.step", false)
+        .set("reward.env", 0.0)
+        .set("reward.discriminator", 1.0);
+    check("gail", gail);
 }
 
 #[test]

@@ -180,13 +180,7 @@ fn bad_bc_settings_are_errors_naming_them() {
          [init]\nkind = \"bc\"\n",
     )
     .unwrap();
-    let e = one_line_error(&cli().run(&[
-        "train",
-        "--config",
-        config.to_str().unwrap(),
-        "--out",
-        dir.join("r").to_str().unwrap(),
-    ]));
+    let e = cli().train_error(&config, &dir.join("r"));
     assert!(e.contains("c.toml") && e.contains("init.demos"), "{e}");
     // An init_policy beside kind = "bc".
     std::fs::write(
@@ -199,13 +193,7 @@ fn bad_bc_settings_are_errors_naming_them() {
         ),
     )
     .unwrap();
-    let e = one_line_error(&cli().run(&[
-        "train",
-        "--config",
-        config.to_str().unwrap(),
-        "--out",
-        dir.join("r2").to_str().unwrap(),
-    ]));
+    let e = cli().train_error(&config, &dir.join("r2"));
     assert!(e.contains("init_policy"), "{e}");
 }
 

@@ -18,13 +18,7 @@ fn write_npy(path: &Path, rows: usize, cols: usize) {
 
 /// `logo train` on `config`, expected to fail: its one-line error.
 fn train_error(config: &Path, out: &Path) -> String {
-    stderr_line(&cli().run(&[
-        "train",
-        "--config",
-        config.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]))
+    cli().train_error(config, out)
 }
 
 const TINY: &str = r#"
