@@ -17,6 +17,7 @@ const FOLDERS: &[&str] = &[
     "logo-fast",
     "trpo",
     "bc-trpo",
+    "dapg",
     "gail",
     "pofd",
     "ppo",

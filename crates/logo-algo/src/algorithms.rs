@@ -4,6 +4,8 @@
 
 use crate::bc::{InitConfig, InitKind};
 use crate::config::{DecaySignal, GuidanceConfig, RewardConfig, TrainConfig};
+use crate::dapg::DemonstrationRowsConfig;
+use crate::policy_update::{NpgConfig, PolicyUpdateConfig};
 
 /// One algorithm: its name, what it is in a line, where it comes from, and how to run it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,6 +48,12 @@ pub const ALGORITHMS: &[Algorithm] = &[
         summary: "TRPO on r + λ₁·(−log D(s, a)), the discriminator trained as LOGO's",
         paper: "Kang, Jie & Feng, 2018",
         run: "configs/pofd/",
+    },
+    Algorithm {
+        name: "dapg",
+        summary: "behaviour cloning, then natural gradient steps with the demonstrations as rows weighted λ0·λ1^k·max Â",
+        paper: "Rajeswaran et al., 2018",
+        run: "configs/dapg/",
     },
     Algorithm {
         name: "logo",
@@ -112,7 +120,7 @@ pub fn table() -> String {
 }
 
 /// The algorithms `logo compare` (and [`configure`]) can make from one LOGO config.
-pub const COMPARABLE: [&str; 5] = ["logo", "trpo", "gail", "pofd", "bc-trpo"];
+pub const COMPARABLE: [&str; 6] = ["logo", "trpo", "gail", "pofd", "bc-trpo", "dapg"];
 
 /// `base`, a LOGO config (its task, budget, networks, TRPO settings and demonstrations),
 /// made into algorithm `name` by the keys that make that algorithm and nothing else: the
@@ -138,6 +146,7 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
         init: InitConfig::default(),
         reward: RewardConfig::default(),
         guidance: None,
+        demonstration_rows: None,
         ..base.clone()
     };
     // GAIL's and POfD's discriminator is LOGO's, without the guidance step.
@@ -163,6 +172,31 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
                 demos: guidance.demos.clone(),
                 ..base.init.clone()
             };
+        }
+        "dapg" => {
+            config.init = InitConfig {
+                kind: InitKind::Bc,
+                demos: guidance.demos.clone(),
+                ..base.init.clone()
+            };
+            let PolicyUpdateConfig::Trpo(trpo) = &base.improvement else {
+                return Err(format!(
+                    "dapg: its natural-gradient step takes the LOGO config's trpo settings; \
+                     [improvement] kind is \"{}\"",
+                    base.improvement.kind()
+                ));
+            };
+            config.improvement = PolicyUpdateConfig::Npg(NpgConfig {
+                damping: trpo.damping,
+                cg_iters: trpo.cg_iters,
+                fisher_fraction: trpo.fisher_fraction,
+                fisher: trpo.fisher,
+            });
+            config.demonstration_rows = Some(DemonstrationRowsConfig {
+                demos: None,
+                lambda0: DAPG_LAMBDA.0,
+                lambda1: DAPG_LAMBDA.1,
+            });
         }
         "gail" | "pofd" => {
             config.guidance = Some(discriminator_alone());
@@ -191,6 +225,9 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
 /// POfD's λ₁ in `configs/pofd/` and `logo compare` (docs/algorithms.md says why).
 pub const POFD_LAMBDA: f64 = 0.1;
 
+/// DAPG's (λ0, λ1) in `configs/dapg/` and `logo compare` (docs/algorithms.md says why).
+pub const DAPG_LAMBDA: (f64, f64) = (0.1, 0.95);
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -218,6 +255,7 @@ mod tests {
             "bc-trpo",
             "gail",
             "pofd",
+            "dapg",
             "logo-ppo-cdq",
         ] {
             assert!(names.contains(&name), "{name} is not listed");

@@ -11,6 +11,7 @@ use logo_nn::DiscriminatorInit;
 
 use crate::bc::{InitConfig, InitKind};
 use crate::critic::CriticConfig;
+use crate::dapg::DemonstrationRowsConfig;
 use crate::delta_schedule::{DELTA_FLOOR, DeltaSchedule};
 use crate::episode::SuccessRule;
 use crate::policy_update::PolicyUpdateConfig;
@@ -122,6 +123,10 @@ pub struct TrainConfig {
     /// discriminator's −log D (GAIL, POfD).
     #[serde(default, skip_serializing_if = "RewardConfig::is_env_alone")]
     pub reward: RewardConfig,
+    /// DAPG's demonstration rows in the improvement step (`[demonstration_rows]`,
+    /// `dapg.rs`); absent: the step sees the policy's batch alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub demonstration_rows: Option<DemonstrationRowsConfig>,
 }
 
 /// `[reward]`: what the improvement step ascends, per step
@@ -377,6 +382,9 @@ impl TrainConfig {
             resolve(p);
         }
         config.init.demos.as_mut().map(resolve);
+        if let Some(rows) = config.demonstration_rows.as_mut() {
+            rows.demos.as_mut().map(resolve);
+        }
         if let Some(g) = config.guidance.as_mut() {
             g.demos.as_mut().map(resolve);
             g.behaviour_policy.as_mut().map(resolve);
@@ -393,6 +401,13 @@ impl TrainConfig {
         }
         if let Some(p) = self.init.demos.as_mut() {
             paths.push(("init.demos", p));
+        }
+        if let Some(p) = self
+            .demonstration_rows
+            .as_mut()
+            .and_then(|r| r.demos.as_mut())
+        {
+            paths.push(("demonstration_rows.demos", p));
         }
         if let Some(g) = self.guidance.as_mut() {
             if let Some(p) = g.demos.as_mut() {
@@ -510,10 +525,24 @@ impl TrainConfig {
         }
         self.init.validate()?;
         self.reward.validate()?;
-        if let Some(p) = &self.init.demos
-            && !p.exists()
-        {
-            return Err(format!("init.demos: {} not found", p.display()));
+        if let Some(rows) = &self.demonstration_rows {
+            rows.validate()?;
+        }
+        let demos = [
+            ("init.demos", self.init.demos.as_ref()),
+            (
+                "demonstration_rows.demos",
+                self.demonstration_rows
+                    .as_ref()
+                    .and_then(|r| r.demos.as_ref()),
+            ),
+        ];
+        for (key, path) in demos {
+            if let Some(p) = path
+                && !p.exists()
+            {
+                return Err(format!("{key}: {} not found", p.display()));
+            }
         }
         Ok(())
     }
@@ -550,6 +579,22 @@ impl TrainConfig {
                 );
             }
         }
+        if self.demonstration_rows.is_some() {
+            if self.improvement.kind() != "npg" {
+                return Err(format!(
+                    "demonstration_rows: DAPG's demonstration rows go with [improvement] \
+                     kind = \"npg\", not \"{}\"",
+                    self.improvement.kind()
+                ));
+            }
+            if self.demonstration_rows_demos().is_none() {
+                return Err(
+                    "demonstration_rows needs demonstrations: set demonstration_rows.demos \
+                     (or init.demos, or guidance.demos)"
+                        .into(),
+                );
+            }
+        }
         // A policy file (a reference `.pt`) was trained on raw observations.
         let behaviour = self
             .guidance
@@ -576,6 +621,20 @@ impl TrainConfig {
     pub fn bc_demos(&self) -> Option<&Path> {
         let guidance = self.guidance.as_ref().and_then(|g| g.demos.as_deref());
         self.init.demos.as_deref().or(guidance)
+    }
+
+    /// The demonstrations of `[demonstration_rows]` (DAPG) and the key that names them:
+    /// its own `demos`, else those `[init]` clones.
+    pub fn demonstration_rows_demos(&self) -> Option<(&'static str, &Path)> {
+        let rows = self.demonstration_rows.as_ref()?;
+        if let Some(p) = rows.demos.as_deref() {
+            return Some(("demonstration_rows.demos", p));
+        }
+        let key = match self.init.demos {
+            Some(_) => "init.demos",
+            None => "guidance.demos",
+        };
+        self.bc_demos().map(|p| (key, p))
     }
 
     /// The env every evaluation runs on: `eval_env`, else the trained task itself.
@@ -642,6 +701,8 @@ impl TrainConfig {
         let improvement = self.improvement.kind();
         let step = self.guidance.as_ref().map(|g| g.step);
         let mut name = match (step, improvement) {
+            // Behaviour cloning is part of DAPG: no "BC-" below.
+            (None, _) if self.demonstration_rows.is_some() => "DAPG".to_string(),
             (None, "trpo") => "TRPO".to_string(),
             (None, kind) => kind.to_uppercase(),
             (Some(true), "trpo") => "LOGO".to_string(),
@@ -659,10 +720,12 @@ impl TrainConfig {
                 }
             }
         };
-        if self.init.kind == InitKind::Bc {
-            name = format!("BC-{name}");
-        }
         let mut notes = Vec::new();
+        match (self.init.kind, self.demonstration_rows.is_some()) {
+            (InitKind::Bc, false) => name = format!("BC-{name}"),
+            (InitKind::Random, true) => notes.push("no behaviour cloning".to_string()),
+            _ => {}
+        }
         if let Some(update) = self.guidance_update()
             && update.kind() != improvement
         {

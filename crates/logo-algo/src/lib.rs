@@ -7,7 +7,8 @@
 //! | `sampler.rs` | collect (s, a, r, s') ~ π_k: whole episodes, at least `samples_per_iter` steps |
 //! | `gae.rs` | generalised advantage estimation |
 //! | `critic.rs` | the critic kinds (`single`, `twin-min` = clipped double-Q) and their fits (`lbfgs.rs`, `adam.rs`) |
-//! | `policy_update/` | the policy-update kinds: `trpo`, `clip-in-trpo`, `ppo-clip`, `ppo-penalty` |
+//! | `policy_update/` | the policy-update kinds: `trpo`, `npg`, `clip-in-trpo`, `ppo-clip`, `ppo-penalty` |
+//! | `dapg.rs` | DAPG's demonstration rows in the improvement step, weighted λ0·λ1^k·max Â |
 //! | `guidance.rs` | LOGO's guidance step: r_C = −log D (or log π_b − log π_k), the step with KL ≈ δ_k |
 //! | `delta_schedule.rs` | the δ_k schedule |
 //! | `discriminator.rs` | the discriminator D and its training |
@@ -22,6 +23,7 @@ pub mod algorithms;
 pub mod bc;
 pub mod config;
 pub mod critic;
+pub mod dapg;
 pub mod delta_schedule;
 pub mod discriminator;
 pub mod episode;

@@ -56,6 +56,10 @@ pub struct IterationMetrics {
     /// The batch's mean guidance reward r_C (NaN without a guidance step).
     #[serde(default = "nan")]
     pub guidance_reward: f64,
+    /// DAPG: the demonstration rows' advantage w_k = λ0·λ1^k·max Â (NaN without
+    /// `[demonstration_rows]`, and in older files).
+    #[serde(default = "nan")]
+    pub demo_weight: f64,
     /// Mean log σ of the policy after the iteration.
     pub mean_log_std: f64,
     pub critic_loss: f64,

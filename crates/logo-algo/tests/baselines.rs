@@ -1,6 +1,7 @@
 //! GAIL and POfD as configurations: the improvement step's reward mixes the env's with
 //! the discriminator's −log D (`[reward]`), and `[guidance] step = false` leaves out
-//! LOGO's second step. Each test can fail: it compares whole checkpoints' tensors.
+//! LOGO's second step. DAPG: `npg` from behaviour cloning with `[demonstration_rows]`.
+//! Each test can fail: it compares whole checkpoints' tensors.
 
 use std::path::Path;
 
@@ -180,4 +181,59 @@ fn minus_log_d_rewards_demonstration_like_pairs_more() {
         on_demos > on_policy + 0.5,
         "−log D: {on_demos} on the demonstrations against {on_policy} on the policy's pairs"
     );
+}
+
+/// NPG from behaviour cloning on the IDP demonstrations; with `lambda0`, DAPG.
+fn npg_from_bc(lambda0: Option<f64>) -> Tiny {
+    let tiny = Tiny::trpo()
+        .set("init.kind", "bc")
+        .set("init.demos", demos())
+        .set("init.epochs", 2)
+        .set("improvement.kind", "npg");
+    match lambda0 {
+        Some(lambda0) => tiny
+            .set("demonstration_rows.lambda0", lambda0)
+            .set("demonstration_rows.lambda1", 0.9),
+        None => tiny,
+    }
+}
+
+#[test]
+fn dapg_with_lambda0_zero_is_npg_from_the_same_clone() {
+    let npg = train(npg_from_bc(None), &scratch("npg"));
+    let dapg0 = train(npg_from_bc(Some(0.0)), &scratch("dapg0"));
+    assert_eq!(dapg0, npg);
+    // With λ0 > 0 the demonstration rows move the policy.
+    let dir = scratch("dapg");
+    let dapg = train(npg_from_bc(Some(1.0)), &dir);
+    assert_ne!(dapg, npg);
+    // metrics.csv says what weight they had: λ0·λ1^k·max Â > 0 (Â normalised).
+    let metrics = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
+    let mut lines = metrics.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = header.iter().position(|c| *c == "demo_weight").unwrap();
+    for line in lines {
+        let weight: f64 = line.split(',').nth(column).unwrap().parse().unwrap();
+        assert!(weight > 0.0 && weight < 10.0, "{line}");
+    }
+}
+
+#[test]
+fn demonstration_rows_need_npg_and_demonstrations() {
+    let dir = scratch("dapg-refused");
+    let refused = |tiny: Tiny| {
+        let path = tiny.write(&dir.join("config.toml"));
+        TrainConfig::load(&path).unwrap_err().to_string()
+    };
+    let trpo = npg_from_bc(Some(0.1)).set("improvement.kind", "trpo");
+    assert!(refused(trpo).contains("kind = \"npg\", not \"trpo\""));
+    let no_demos = Tiny::trpo()
+        .set("improvement.kind", "npg")
+        .set("demonstration_rows.lambda0", 0.1)
+        .set("demonstration_rows.lambda1", 0.9);
+    assert!(refused(no_demos).contains("demonstration_rows needs demonstrations"));
+    let missing = npg_from_bc(None).set("demonstration_rows.lambda0", 0.1);
+    assert!(refused(missing).contains("lambda1"));
+    let decay = npg_from_bc(Some(0.1)).set("demonstration_rows.lambda1", 1.5);
+    assert!(refused(decay).contains("lambda1 must be in [0, 1]"));
 }

@@ -29,6 +29,11 @@ const SECTIONS: &[(&str, &str, Option<&str>)] = &[
     ),
     ("`[init]`", "[init]\nunknown_key = 1\n", None),
     ("`[reward]`", "[reward]\nunknown_key = 1\n", None),
+    (
+        "`[demonstration_rows]`",
+        "[demonstration_rows]\nunknown_key = 1\n",
+        None,
+    ),
     ("`[critic]`", "[critic]\nunknown_key = 1\n", None),
     (
         "`[critic.fit]`, `method = \"lbfgs\"`",
@@ -43,6 +48,11 @@ const SECTIONS: &[(&str, &str, Option<&str>)] = &[
     (
         "`[improvement]`, `kind = \"trpo\"` or `\"clip-in-trpo\"`",
         "[improvement]\nkind = \"trpo\"\nunknown_key = 1\n",
+        Some("kind"),
+    ),
+    (
+        "`[improvement]`, `kind = \"npg\"`",
+        "[improvement]\nkind = \"npg\"\nunknown_key = 1\n",
         Some("kind"),
     ),
     (

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use logo_algo::algorithms::configure;
 use logo_algo::critic::CriticFit;
 use logo_algo::{FloatType, TrainConfig};
 use logo_data::Demonstrations;
@@ -19,7 +20,7 @@ const ALGORITHMS: [&str; 8] = [
     "trpo",
 ];
 /// The baselines made of TRPO's config and a reward or an initialisation.
-const BASELINES: [&str; 3] = ["bc-trpo", "gail", "pofd"];
+const BASELINES: [&str; 4] = ["bc-trpo", "gail", "pofd", "dapg"];
 const ENVS: [&str; 4] = [
     "hopper",
     "walker2d",
@@ -188,8 +189,9 @@ fn algorithm_names_say_which_critics_are_twin() {
     );
 }
 
-/// The baselines differ from `configs/trpo/<env>.toml` in `[init]`, `[reward]` and
-/// `[guidance]` only, and their demonstrations are LOGO's.
+/// The baselines differ from `configs/trpo/<env>.toml` in `[init]`, `[reward]`,
+/// `[guidance]`, `[improvement]`'s kind and `[demonstration_rows]` only, and their
+/// demonstrations are LOGO's.
 #[test]
 fn baselines_are_trpo_with_a_reward_or_an_initialisation() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
@@ -210,12 +212,29 @@ fn baselines_are_trpo_with_a_reward_or_an_initialisation() {
             config.init = trpo.init.clone();
             config.reward = trpo.reward.clone();
             config.guidance = None;
+            config.improvement = trpo.improvement.clone();
+            config.demonstration_rows = None;
             assert_eq!(
                 config,
                 trpo,
                 "{} differs beyond its baseline's keys",
                 path.display()
             );
+        }
+    }
+}
+
+/// `logo compare` makes each baseline from the LOGO config as its `configs/` folder has it.
+#[test]
+fn compare_makes_the_baselines_of_the_config_folders() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+    for env in ENVS {
+        let logo = TrainConfig::load(&root.join("logo").join(format!("{env}.toml"))).unwrap();
+        for algo in BASELINES {
+            let path = root.join(algo).join(format!("{env}.toml"));
+            let shipped = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            let made = configure(&logo, algo).unwrap();
+            assert_eq!(made, shipped, "{}", path.display());
         }
     }
 }

@@ -128,6 +128,7 @@ fn engine_surrogate<E: Engine>(engine: &E, case: &Case, kind: Surrogate) -> (f64
         logp_old: engine.upload(&case.logp_old, [n]),
         advantages: engine.upload(&case.advantages, [n]),
         rows: n,
+        demonstration_rows: 0,
     };
     let start_anchor = anchor(engine, &start, &engine.trace(&start.mean, &batch.obs));
     let trace = engine.trace(&policy.mean, &batch.obs);

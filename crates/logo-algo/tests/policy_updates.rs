@@ -3,10 +3,11 @@
 
 use burn::tensor::Tensor;
 use logo_algo::critic::{CriticConfig, CriticKind, CriticSet};
+use logo_algo::dapg::DemonstrationRows;
 use logo_algo::policy_update::objective::{StepBatch, Surrogate, anchor, evaluate};
 use logo_algo::policy_update::{
-    PolicyUpdateConfig, PpoClipConfig, PpoPenaltyConfig, StopReason, TrpoConfig, UpdateState,
-    fisher_rows,
+    NpgConfig, PolicyUpdateConfig, PpoClipConfig, PpoPenaltyConfig, StopReason, TrpoConfig,
+    UpdateState, UpdateStats, fisher_rows,
 };
 use logo_nn::flat::{from_f64, to_f64, vec_to_params};
 use logo_nn::loss::{clipped_surrogate, value_and_grad};
@@ -63,6 +64,13 @@ fn ppo_penalty_adapts_beta_around_the_target() {
 
 /// A random policy and a batch from it with random advantages, on the kernels engine.
 fn problem(rows: usize) -> (Kernels, Policy<Kernels>, StepBatch<Kernels>) {
+    let (engine, policy, batch, _) = problem_on_host(rows);
+    (engine, policy, batch)
+}
+
+/// [`problem`], with the batch's observations, actions and advantages on the host.
+#[allow(clippy::type_complexity)]
+fn problem_on_host(rows: usize) -> (Kernels, Policy<Kernels>, StepBatch<Kernels>, [Vec<f64>; 3]) {
     let engine = Kernels;
     let mut rng = ChaCha8Rng::seed_from_u64(21);
     let config = PolicyConfig {
@@ -88,14 +96,113 @@ fn problem(rows: usize) -> (Kernels, Policy<Kernels>, StepBatch<Kernels>) {
         logp_old,
         advantages: engine.upload(&advantages, [rows]),
         rows,
+        demonstration_rows: 0,
     };
+    let actions = engine.download(batch.actions.clone());
+    (engine, policy, batch, [obs, actions, advantages])
+}
+
+/// The problem's batch followed by `demos` demonstration pairs (actions 0.8 on every
+/// dimension) with advantage `weight`, as DAPG's improvement step sees them.
+fn with_demonstrations(
+    rows: usize,
+    demos: usize,
+    weight: f64,
+) -> (Kernels, Policy<Kernels>, StepBatch<Kernels>) {
+    let (engine, policy, _, [obs, actions, advantages]) = problem_on_host(rows);
+    let mut rng = ChaCha8Rng::seed_from_u64(8);
+    let demo_obs: Vec<f64> = (0..demos * 4)
+        .map(|_| rng.random_range(-2.0..2.0))
+        .collect();
+    let demonstrations = DemonstrationRows::new(demo_obs, vec![0.8; demos * 2], 4, 2);
+    let batch = demonstrations.append(&engine, &policy, (&obs, &actions), &advantages, weight);
+    assert_eq!(
+        (batch.rows, batch.demonstration_rows),
+        (rows + demos, demos)
+    );
     (engine, policy, batch)
+}
+
+fn npg_step(
+    engine: &Kernels,
+    policy: &Policy<Kernels>,
+    batch: &StepBatch<Kernels>,
+) -> (Policy<Kernels>, UpdateStats) {
+    let config = PolicyUpdateConfig::Npg(NpgConfig::default());
+    let mut rng = ChaCha8Rng::seed_from_u64(0);
+    config.update(
+        engine,
+        policy,
+        batch,
+        0.01,
+        &mut UpdateState::default(),
+        &mut rng,
+    )
+}
+
+/// NPG's step is TRPO's full step, taken without the line search.
+#[test]
+fn npg_takes_the_full_step_that_trpo_tries_first() {
+    let (engine, policy, batch) = problem(1000);
+    let (npg, stats) = npg_step(&engine, &policy, &batch);
+    let trpo = PolicyUpdateConfig::Trpo(TrpoConfig::default());
+    let mut rng = ChaCha8Rng::seed_from_u64(0);
+    let (moved, trpo_stats) = trpo.update(
+        &engine,
+        &policy,
+        &batch,
+        0.01,
+        &mut UpdateState::default(),
+        &mut rng,
+    );
+    assert_eq!(
+        trpo_stats.steps, 1.0,
+        "TRPO accepted its full step here: {trpo_stats:?}"
+    );
+    assert_eq!(npg.params(&engine), moved.params(&engine));
+    assert_eq!((stats.steps, stats.stop), (1.0, StopReason::Accepted));
+    // Its KL is near δ, as the step size √(2δ / sᵀFs) aims.
+    assert!(stats.kl > 0.005 && stats.kl < 0.02, "{stats:?}");
+}
+
+/// DAPG's rows shape the gradient, not F: with weight 0 they only rescale g (by
+/// N / (N + M)), which the normalised step undoes; F over them too would change it.
+#[test]
+fn demonstration_rows_with_weight_zero_leave_the_npg_step_as_it_was() {
+    let (engine, policy, batch) = problem(600);
+    let (plain, _) = npg_step(&engine, &policy, &batch);
+    let (engine2, policy2, augmented) = with_demonstrations(600, 300, 0.0);
+    let (zero, stats) = npg_step(&engine2, &policy2, &augmented);
+    let (a, b) = (plain.params(&engine), zero.params(&engine2));
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "largest difference {worst}");
+    // The KL reported is the policy's own rows', as the plain step's.
+    assert!(stats.kl > 0.005 && stats.kl < 0.02, "{stats:?}");
+}
+
+/// Weighted demonstration rows raise their log-likelihood under the step; the more so
+/// the larger the weight.
+#[test]
+fn demonstration_rows_pull_the_policy_toward_the_demonstrations() {
+    let likelihood = |weight: f64| {
+        let (engine, policy, batch) = with_demonstrations(600, 300, weight);
+        let (moved, _) = npg_step(&engine, &policy, &batch);
+        let logp = moved.log_prob(&engine, &batch.obs, &batch.actions);
+        engine.download(logp)[600..].iter().sum::<f64>() / 300.0
+    };
+    let (none, some, more) = (likelihood(0.0), likelihood(0.5), likelihood(2.0));
+    assert!(some > none + 0.01, "{none} -> {some}");
+    assert!(more > some, "{some} -> {more}");
 }
 
 /// What kind `config` maximises, as an evaluable surrogate.
 fn own_surrogate(config: &PolicyUpdateConfig, state: &UpdateState) -> Surrogate {
     match config {
-        PolicyUpdateConfig::Trpo(_) => Surrogate::Ratio,
+        PolicyUpdateConfig::Trpo(_) | PolicyUpdateConfig::Npg(_) => Surrogate::Ratio,
         PolicyUpdateConfig::ClipInTrpo(c) => Surrogate::Clipped {
             epsilon: c.clip_epsilon.unwrap_or(0.2),
         },
@@ -118,6 +225,7 @@ fn every_kind_improves_its_own_surrogate_on_a_fixed_batch() {
     };
     for config in [
         PolicyUpdateConfig::Trpo(TrpoConfig::default()),
+        PolicyUpdateConfig::Npg(NpgConfig::default()),
         PolicyUpdateConfig::ClipInTrpo(clip_in_trpo),
         PolicyUpdateConfig::PpoClip(PpoClipConfig::default()),
         PolicyUpdateConfig::PpoPenalty(PpoPenaltyConfig::default()),

@@ -87,7 +87,7 @@ fn compare_refuses_what_it_cannot_compare() {
         "--config",
         logo.to_str().unwrap(),
         "--algorithms",
-        "logo,dapg",
+        "logo,sac",
     ]));
-    assert!(e.contains("unknown algorithm \"dapg\""), "{e}");
+    assert!(e.contains("unknown algorithm \"sac\""), "{e}");
 }

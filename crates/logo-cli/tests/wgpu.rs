@@ -83,6 +83,7 @@ fn iteration<E: Engine>(engine: &E) -> Iteration {
         logp_old: logp.clone() - 0.1,
         advantages: engine.upload(&advantages, [n]),
         rows: n,
+        demonstration_rows: 0,
     };
     let trace = engine.trace(&policy.mean, &rows);
     let start = anchor(engine, &policy, &trace);

@@ -25,11 +25,11 @@ pub struct CompareArgs {
     /// A LOGO config of the task (its env, budget, settings and `[guidance] demos`).
     #[arg(long)]
     config: PathBuf,
-    /// The algorithms, comma-separated: logo, trpo, gail, pofd, bc-trpo.
+    /// The algorithms, comma-separated: logo, trpo, gail, pofd, bc-trpo, dapg.
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "logo,trpo,gail,pofd,bc-trpo"
+        default_value = "logo,trpo,gail,pofd,bc-trpo,dapg"
     )]
     algorithms: Vec<String>,
     /// Seeds: a range `0..5` (5 excluded), `0..=4`, a list `0,2,7`.

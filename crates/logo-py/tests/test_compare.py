@@ -59,8 +59,8 @@ def test_compare_trains_each_method_once_and_answers(tmp_path):
 
 
 def test_compare_misuse_is_a_python_error(tmp_path):
-    with pytest.raises(ValueError, match="dapg"):
-        logo_rl.compare(TINY, algorithms=("logo", "dapg"), out=tmp_path)
+    with pytest.raises(ValueError, match="sac"):
+        logo_rl.compare(TINY, algorithms=("logo", "sac"), out=tmp_path)
     with pytest.raises(ValueError, match="seeds"):
         logo_rl.compare(TINY, seeds=0, out=tmp_path)
     trpo = {k: v for k, v in TINY.items() if k != "guidance"}

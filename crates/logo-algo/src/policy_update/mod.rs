@@ -5,6 +5,7 @@
 //! | kind | file | paper |
 //! | --- | --- | --- |
 //! | `trpo` | `trpo.rs` | LOGO's steps (Algorithm 1, eqs. 9-10): CG on F·v, step √(2δ/sᵀFs), line search |
+//! | `npg` | `npg.rs` | the natural policy gradient, its full step taken without a line search (DAPG's step) |
 //! | `clip-in-trpo` | `clip_in_trpo.rs` | the clipped surrogate inside that natural-gradient step: what the seed paper's code ran |
 //! | `ppo-clip` | `ppo_clip.rs` | the seed paper's Algorithm 3: minibatch Adam on the clipped surrogate, stopped when KL > λδ |
 //! | `ppo-penalty` | `ppo_penalty.rs` | the seed paper's Algorithm 4: the KL-penalised surrogate, β adapted around δ |
@@ -15,12 +16,14 @@
 
 mod clip_in_trpo;
 mod first_order;
+mod npg;
 pub mod objective;
 mod ppo_clip;
 mod ppo_penalty;
 mod stats;
 mod trpo;
 
+pub use npg::NpgConfig;
 pub use objective::{StepBatch, Surrogate};
 pub use ppo_clip::PpoClipConfig;
 pub use ppo_penalty::PpoPenaltyConfig;
@@ -38,6 +41,7 @@ use serde::{Deserialize, Serialize};
 #[serde(remote = "Self")]
 pub enum PolicyUpdateConfig {
     Trpo(TrpoConfig),
+    Npg(NpgConfig),
     ClipInTrpo(TrpoConfig),
     PpoClip(PpoClipConfig),
     PpoPenalty(PpoPenaltyConfig),
@@ -83,6 +87,7 @@ impl PolicyUpdateConfig {
     ) -> (Policy<E>, UpdateStats) {
         match self {
             Self::Trpo(config) => trpo::update(config, engine, policy, batch, delta),
+            Self::Npg(config) => npg::update(config, engine, policy, batch, delta),
             Self::ClipInTrpo(config) => clip_in_trpo::update(config, engine, policy, batch, delta),
             Self::PpoClip(config) => {
                 ppo_clip::update(config, engine, policy, batch, delta, state, rng)
@@ -104,6 +109,7 @@ impl PolicyUpdateConfig {
                 }
                 config.validate(table)
             }
+            Self::Npg(config) => config.validate(table),
             Self::ClipInTrpo(config) => config.validate(table),
             Self::PpoClip(config) => config.validate(table),
             Self::PpoPenalty(config) => config.validate(table),
@@ -113,6 +119,7 @@ impl PolicyUpdateConfig {
     pub fn kind(&self) -> &'static str {
         match self {
             Self::Trpo(_) => "trpo",
+            Self::Npg(_) => "npg",
             Self::ClipInTrpo(_) => "clip-in-trpo",
             Self::PpoClip(_) => "ppo-clip",
             Self::PpoPenalty(_) => "ppo-penalty",

@@ -22,10 +22,13 @@ pub struct StepBatch<E: Engine> {
     /// The step's (normalised) advantages.
     pub advantages: Tensor<E::B, 1>,
     pub rows: usize,
+    /// How many of the last rows are demonstrations rather than the policy's own
+    /// (DAPG's `[demonstration_rows]`; 0 otherwise): they enter the surrogate, not F·v.
+    pub demonstration_rows: usize,
 }
 
 impl<E: Engine> StepBatch<E> {
-    /// The rows at `indices` (a minibatch, a subsample).
+    /// The rows at `indices` (a minibatch, a subsample of the policy's own rows).
     pub fn select(&self, engine: &E, indices: &[usize]) -> Self {
         Self {
             obs: engine.select(&self.obs, indices),
@@ -33,6 +36,7 @@ impl<E: Engine> StepBatch<E> {
             logp_old: select_rows(&self.logp_old, indices),
             advantages: select_rows(&self.advantages, indices),
             rows: indices.len(),
+            demonstration_rows: 0,
         }
     }
 
@@ -44,6 +48,7 @@ impl<E: Engine> StepBatch<E> {
             logp_old: self.logp_old.clone(),
             advantages,
             rows: self.rows,
+            demonstration_rows: self.demonstration_rows,
         }
     }
 }

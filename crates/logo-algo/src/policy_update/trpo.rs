@@ -7,7 +7,7 @@ use logo_nn::flat::dot;
 use logo_nn::{Engine, FisherKind, FisherOperator, Policy, conjugate_gradient};
 use serde::{Deserialize, Serialize};
 
-use super::objective::{StepBatch, Surrogate, anchor, evaluate, gradient};
+use super::objective::{Anchor, StepBatch, Surrogate, anchor, evaluate, gradient};
 use super::stats::{StopReason, UpdateStats};
 use crate::validate::{check_clip, check_count, check_fraction, check_positive};
 
@@ -111,23 +111,59 @@ pub(super) fn update<E: Engine>(
     natural_gradient_step(config, Surrogate::Ratio, engine, policy, batch, delta)
 }
 
-/// g = ∇ surrogate, s = CG(F, g), full step s·√(2δ / sᵀFs), then the backtracking line
-/// search; `surrogate` is the objective (TRPO's ratio, or the clipped one).
-pub(super) fn natural_gradient_step<E: Engine>(
-    config: &TrpoConfig,
+/// How the natural-gradient kinds (`trpo`, `clip-in-trpo`, `npg`) solve F·s = g.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Curvature {
+    pub damping: f64,
+    pub cg_iters: usize,
+    pub fisher_fraction: f64,
+    pub fisher: FisherKind,
+}
+
+impl TrpoConfig {
+    pub(super) fn curvature(&self) -> Curvature {
+        Curvature {
+            damping: self.damping,
+            cg_iters: self.cg_iters,
+            fisher_fraction: self.fisher_fraction,
+            fisher: self.fisher,
+        }
+    }
+}
+
+/// Where a natural-gradient step starts and the full step it may take.
+pub(super) struct FullStep<E: Engine> {
+    pub theta: Vec<f64>,
+    pub start: Anchor<E::B>,
+    /// The surrogate at θ, and its gradient.
+    pub before: f64,
+    pub grad: Vec<f64>,
+    /// s·√(2δ / sᵀFs).
+    pub step: Vec<f64>,
+}
+
+/// g = ∇ surrogate, s = CG(F, g), full step s·√(2δ / sᵀFs); `Err(Degenerate)` when
+/// sᵀFs is not a positive number. F·v is on the policy's own rows (not a batch's
+/// demonstration rows), all of them or `fisher_fraction` of them.
+pub(super) fn full_step<E: Engine>(
+    curvature: Curvature,
     surrogate: Surrogate,
     engine: &E,
     policy: &Policy<E>,
     batch: &StepBatch<E>,
     delta: f64,
-) -> (Policy<E>, UpdateStats) {
+) -> Result<FullStep<E>, StopReason> {
     let theta = policy.params(engine);
     let trace = engine.trace(&policy.mean, &batch.obs);
     let start = anchor(engine, policy, &trace);
     let (before, grad) = gradient(engine, surrogate, policy, &trace, batch, &start);
 
-    // F·v on all rows (the trace above), or on a subsample with a trace of its own.
-    let subset = fisher_rows(batch.rows, config.fisher_fraction);
+    // F·v on all rows (the trace above), or on a subset with a trace of its own.
+    let own = batch.rows - batch.demonstration_rows;
+    let subset = match fisher_rows(own, curvature.fisher_fraction) {
+        None if own < batch.rows => Some((0..own).collect()),
+        rows => rows,
+    };
     let subset_trace = subset
         .as_ref()
         .map(|rows| engine.trace(&policy.mean, &engine.select(&batch.obs, rows)));
@@ -140,41 +176,69 @@ pub(super) fn natural_gradient_step<E: Engine>(
         policy,
         fisher_trace,
         fisher_n,
-        config.damping,
-        config.fisher,
+        curvature.damping,
+        curvature.fisher,
     );
-    let direction = conjugate_gradient(|v| fisher.apply(v), &grad, config.cg_iters, 1e-10);
+    let direction = conjugate_gradient(|v| fisher.apply(v), &grad, curvature.cg_iters, 1e-10);
     let shs = 0.5 * dot(&direction, &fisher.apply(&direction));
-    let unchanged = |stop| {
-        let stats = UpdateStats {
-            stop,
-            ..UpdateStats::default()
-        };
-        (policy.clone(), stats)
-    };
     if !(shs > 0.0 && shs.is_finite()) {
-        return unchanged(StopReason::Degenerate);
+        return Err(StopReason::Degenerate);
     }
     let scale = (shs / delta).sqrt();
-    let full_step: Vec<f64> = direction.iter().map(|d| d / scale).collect();
-    let expected_full = dot(&grad, &full_step);
+    let step = direction.iter().map(|d| d / scale).collect();
+    Ok(FullStep {
+        theta,
+        start,
+        before,
+        grad,
+        step,
+    })
+}
 
+/// The policy unchanged, and why.
+pub(super) fn unchanged<E: Engine>(
+    policy: &Policy<E>,
+    stop: StopReason,
+) -> (Policy<E>, UpdateStats) {
+    let stats = UpdateStats {
+        stop,
+        ..UpdateStats::default()
+    };
+    (policy.clone(), stats)
+}
+
+/// The full step, then the backtracking line search over fractions 0.5^i;
+/// `surrogate` is the objective (TRPO's ratio, or the clipped one).
+pub(super) fn natural_gradient_step<E: Engine>(
+    config: &TrpoConfig,
+    surrogate: Surrogate,
+    engine: &E,
+    policy: &Policy<E>,
+    batch: &StepBatch<E>,
+    delta: f64,
+) -> (Policy<E>, UpdateStats) {
+    let full = match full_step(config.curvature(), surrogate, engine, policy, batch, delta) {
+        Ok(full) => full,
+        Err(stop) => return unchanged(policy, stop),
+    };
+    let expected_full = dot(&full.grad, &full.step);
     let mut fraction = 1.0;
     for _ in 0..config.backtracks {
-        let candidate: Vec<f64> = theta
+        let candidate: Vec<f64> = full
+            .theta
             .iter()
-            .zip(&full_step)
+            .zip(&full.step)
             .map(|(t, s)| t + fraction * s)
             .collect();
         let moved = policy.with_params(engine, &candidate);
-        let (value, kl) = evaluate(engine, surrogate, &moved, batch, &start);
-        let actual = value - before;
+        let (value, kl) = evaluate(engine, surrogate, &moved, batch, &full.start);
+        let actual = value - full.before;
         let expected = expected_full * fraction;
         let kl_ok = config.kl_limit.is_none_or(|limit| kl <= limit * delta);
         if actual / expected > config.accept_ratio && kl_ok {
             let stats = UpdateStats {
                 kl,
-                step_norm: fraction * dot(&full_step, &full_step).sqrt(),
+                step_norm: fraction * dot(&full.step, &full.step).sqrt(),
                 improvement: actual,
                 steps: fraction,
                 epochs: 0,
@@ -185,5 +249,5 @@ pub(super) fn natural_gradient_step<E: Engine>(
         }
         fraction *= 0.5;
     }
-    unchanged(StopReason::NoImprovement)
+    unchanged(policy, StopReason::NoImprovement)
 }

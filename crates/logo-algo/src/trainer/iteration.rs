@@ -5,6 +5,8 @@
 //! 1. collect whole episodes with π_k;
 //! 2. advantages of the env reward (or `[reward]`'s mix of it with −log D: GAIL, POfD),
 //!    with the env critic as it stands;
+//!    (DAPG: the demonstrations join the improvement step's batch as rows weighted
+//!    λ0·λ1^k·max Â, `dapg.rs`);
 //! 3. δ_k from the batch's mean sparse return; while δ_k is above its floor, the guidance
 //!    reward r_C (from last iteration's discriminator, or log π_b − log π_k) and its
 //!    advantages with the guidance critic;
@@ -62,7 +64,11 @@ impl<E: Engine> Trainer<E> {
             actions,
             logp_old: logp_k,
             rows: batch.len(),
+            demonstration_rows: 0,
         };
+        // 2b. DAPG: the demonstrations join the improvement step's batch, weighted
+        //     w_k = λ0·λ1^k·max Â (`[demonstration_rows]`).
+        let (with_demonstrations, demo_weight) = self.demonstration_rows(k, batch, &env);
 
         // 3. δ_k, then the guidance reward and its advantages while δ_k is above its floor.
         let guidance = in_phase("advantages", || self.guidance_stream(k, batch, &data))?;
@@ -81,6 +87,7 @@ impl<E: Engine> Trainer<E> {
         let inputs = StepInputs {
             k,
             data: &data,
+            improvement_data: with_demonstrations.as_ref().unwrap_or(&data),
             stream: guidance.as_ref(),
             discriminator_inputs,
             skip_improvement: self.config.skip_improvement_without_reward && rewardless,
@@ -91,6 +98,7 @@ impl<E: Engine> Trainer<E> {
         let row = IterationMetrics {
             t_sampling: collected.seconds + t_upload,
             t_advantages,
+            demo_weight,
             ..IterationMetrics::default()
         };
         self.record(k, row, batch, guidance.as_ref(), later)
@@ -115,6 +123,31 @@ impl<E: Engine> Trainer<E> {
         let critic = &self.learner.critics.env;
         let env = advantages(engine, config, critic, batch, obs, &rewards);
         (env, mixed)
+    }
+
+    /// Step 2b (DAPG): the improvement step's batch with the demonstrations' rows, and
+    /// their weight w_k; none (and NaN) without `[demonstration_rows]`. A weight of 0
+    /// (λ0 = 0) leaves the batch as it is: the plain step, bit for bit.
+    fn demonstration_rows(
+        &self,
+        k: usize,
+        batch: &Batch,
+        env: &Advantages,
+    ) -> (Option<StepBatch<E>>, f64) {
+        let (Some(config), Some(rows)) = (
+            &self.config.demonstration_rows,
+            &self.resources.demonstrations,
+        ) else {
+            return (None, f64::NAN);
+        };
+        let weight = config.weight(k, &env.normalised);
+        if weight == 0.0 {
+            return (None, weight);
+        }
+        let (engine, policy) = (&self.resources.engine, &self.learner.policy);
+        let pairs = (&batch.obs[..], &batch.actions[..]);
+        let augmented = rows.append(engine, policy, pairs, &env.normalised, weight);
+        (Some(augmented), weight)
     }
 
     /// A batch collected with the policy as it stands.
@@ -142,6 +175,9 @@ impl<E: Engine> Trainer<E> {
         }
         if let Some(g) = self.learner.guidance.as_mut() {
             g.observe_through(&self.resources.engine, &acted_with);
+        }
+        if let Some(rows) = self.resources.demonstrations.as_mut() {
+            rows.observe_through(&acted_with);
         }
     }
 
@@ -321,6 +357,9 @@ fn take_step<E: Engine>(
 struct StepInputs<'a, E: Engine> {
     k: usize,
     data: &'a StepBatch<E>,
+    /// The improvement step's batch: `data`, with DAPG's demonstration rows where
+    /// `[demonstration_rows]` adds them.
+    improvement_data: &'a StepBatch<E>,
     stream: Option<&'a GuidanceStream<E>>,
     /// The batch's pairs as the discriminator's inputs, where its reward was used.
     discriminator_inputs: Option<&'a E::Rows>,
@@ -381,7 +420,8 @@ fn improvement_step<E: Engine>(
     let mut rng = generator(config.seed, inputs.k, Stream::ImprovementStep);
     let step = in_phase("improvement step", || {
         let update = &config.improvement;
-        update.update(engine, policy, inputs.data, config.max_kl, state, &mut rng)
+        let data = inputs.improvement_data;
+        update.update(engine, policy, data, config.max_kl, state, &mut rng)
     });
     take_step(engine, policy, step, "the improvement step")
 }

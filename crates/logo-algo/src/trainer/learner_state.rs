@@ -251,13 +251,15 @@ impl LearnerState {
 }
 
 /// The algorithm a checkpoint's metadata names: "logo" with a guidance step, "gail" or
-/// "pofd" with the discriminator's reward alone or mixed in, else "trpo" (kept
-/// checkpoints name "logo" or "trpo", as runs of their configs still do).
+/// "pofd" with the discriminator's reward alone or mixed in, "dapg" with demonstration
+/// rows, else "trpo" (kept checkpoints name "logo" or "trpo", as runs of their configs
+/// still do).
 fn algorithm(config: &TrainConfig) -> &'static str {
     match &config.guidance {
         Some(g) if g.step => "logo",
         Some(_) if config.reward.env == 0.0 => "gail",
         Some(_) => "pofd",
+        None if config.demonstration_rows.is_some() => "dapg",
         None => "trpo",
     }
 }

@@ -1,5 +1,5 @@
 //! What a run works with but does not learn: the engine, the worker threads, the env
-//! copies and their sampler, the evaluation env. None of it is in a checkpoint except
+//! copies and their sampler, the evaluation env, DAPG's demonstration rows. None of it is in a checkpoint except
 //! the sampler's random state ([`SamplerState`]), which the learner's state carries.
 
 use std::sync::Arc;
@@ -14,6 +14,7 @@ use rand_chacha::ChaCha8Rng;
 use super::learner_state::{Networks, SamplerState};
 use super::schedule::Schedule;
 use crate::config::{EvalInitialStates, TrainConfig};
+use crate::dapg::DemonstrationRows;
 use crate::episode::{Evaluation, EvaluationPlan, evaluate, evaluation_seed};
 use crate::run_dir::TrainError;
 use crate::sampler::{Batch, Sampler};
@@ -30,6 +31,8 @@ pub(super) struct Resources<E: Engine> {
     /// The networks' burn modules, into which the learner's parameters are written when
     /// its state is taken (a checkpoint).
     pub(super) shapes: Networks,
+    /// DAPG's demonstration rows (`[demonstration_rows]`).
+    pub(super) demonstrations: Option<DemonstrationRows>,
 }
 
 impl<E: Engine> Resources<E> {
@@ -53,6 +56,10 @@ impl<E: Engine> Resources<E> {
             sampler: sampler(config, spec),
             rng: streams::sampler(config.seed),
         };
+        let demonstrations = match config.demonstration_rows_demos() {
+            Some((key, path)) => Some(DemonstrationRows::load(path, key, spec)?),
+            None => None,
+        };
         Ok(Self {
             engine,
             pool: Arc::new(pool),
@@ -60,6 +67,7 @@ impl<E: Engine> Resources<E> {
             collector,
             evaluator,
             shapes,
+            demonstrations,
         })
     }
 }

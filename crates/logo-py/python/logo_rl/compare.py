@@ -16,7 +16,7 @@ from . import _logo_rl
 from .run import _plain, train
 from .presets import preset_path
 
-METHODS = ("logo", "trpo", "gail", "pofd", "bc-trpo")
+METHODS = ("logo", "trpo", "gail", "pofd", "bc-trpo", "dapg")
 
 
 def compare(
@@ -39,7 +39,8 @@ def compare(
 
     Each method is the config made into it by its own keys alone (``trpo`` drops
     ``[guidance]``, ``bc-trpo`` clones the demonstrations first, ``gail`` and ``pofd``
-    keep the discriminator without the guidance step: docs/algorithms.md). Runs go to
+    keep the discriminator without the guidance step, ``dapg`` clones and then takes
+    natural-gradient steps with the demonstrations as weighted rows: docs/algorithms.md). Runs go to
     ``out/<method>/seed<N>`` (default ``runs/compare-<config name>``); a finished run is
     read, not trained again, and an interrupted one is resumed. ``samples``: the budget
     per run (iterations = ⌈samples / samples_per_iter⌉), default the config's.
