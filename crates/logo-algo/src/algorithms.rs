@@ -1,6 +1,7 @@
 //! The algorithms logo-rl trains, one line each: what `logo algorithms` prints. Each is a
-//! configuration of the one trainer (a folder of `configs/` per task), or `logo bc`;
-//! [`configure`] makes each baseline from a LOGO config (`logo compare`).
+//! configuration of the one trainer (a folder of `configs/` per task, and a preset a
+//! config names by `[algorithm] name`), or `logo bc`; [`configure`] makes each baseline
+//! from a LOGO config (`logo compare`).
 
 use crate::bc::{InitConfig, InitKind};
 use crate::config::{DecaySignal, GuidanceConfig, RewardConfig, TrainConfig};
@@ -147,6 +148,7 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
         reward: RewardConfig::default(),
         guidance: None,
         demonstration_rows: None,
+        preset: None,
         ..base.clone()
     };
     // GAIL's and POfD's discriminator is LOGO's, without the guidance step.
@@ -222,15 +224,26 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
     Ok(config)
 }
 
-/// POfD's λ₁ in `configs/pofd/` and `logo compare` (docs/algorithms.md says why).
-pub const POFD_LAMBDA: f64 = 0.1;
-
-/// DAPG's (λ0, λ1) in `configs/dapg/` and `logo compare` (docs/algorithms.md says why).
-pub const DAPG_LAMBDA: (f64, f64) = (0.1, 0.95);
+pub use crate::presets::{DAPG_LAMBDA, POFD_LAMBDA};
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every algorithm with a config folder is a preset (`[algorithm] name`), and every
+    /// preset is listed.
+    #[test]
+    fn the_listed_algorithms_are_the_presets() {
+        let mut listed: Vec<&str> = ALGORITHMS
+            .iter()
+            .filter(|a| a.run.starts_with("configs/"))
+            .map(|a| a.name)
+            .collect();
+        let mut presets = crate::presets::NAMES.to_vec();
+        listed.sort();
+        presets.sort();
+        assert_eq!(listed, presets);
+    }
 
     /// Each algorithm's configs exist for the four LOGO tasks (a renamed folder fails here).
     #[test]

@@ -110,6 +110,28 @@ fn negative_log_likelihood<B: burn::tensor::backend::Backend>(
     gaussian_log_prob(means, log_std, actions).mean().neg()
 }
 
+/// `policy` cloned on the pairs (`obs` as the networks see them) with the BC stream of
+/// `seed`: [`fit`], and an error naming `what` (the demonstrations) if it left a
+/// non-finite parameter. What `logo bc` and `[init] kind = "bc"` both run.
+pub fn clone_policy<E: Engine>(
+    engine: &E,
+    policy: &Policy<E>,
+    (obs, actions): (&[f64], &[f64]),
+    config: &InitConfig,
+    seed: u64,
+    what: &str,
+) -> Result<(Policy<E>, BcReport), String> {
+    let mut rng = generator(seed);
+    let (fitted, report) = fit(engine, policy, obs, actions, config, &mut rng);
+    if !fitted.is_finite(engine) {
+        return Err(format!(
+            "behaviour cloning on {what} left a non-finite parameter (try a smaller learning \
+             rate)"
+        ));
+    }
+    Ok((fitted, report))
+}
+
 /// `policy` fitted to the pairs (`obs` and `actions`, row-major, as the networks see
 /// them) by `config`'s epochs of minibatch Adam.
 pub fn fit<E: Engine>(

@@ -15,6 +15,7 @@ use crate::dapg::DemonstrationRowsConfig;
 use crate::delta_schedule::{DELTA_FLOOR, DeltaSchedule};
 use crate::episode::SuccessRule;
 use crate::policy_update::PolicyUpdateConfig;
+use crate::presets::{self, AlgorithmPreset};
 use crate::sampler::RolloutMode;
 use crate::validate::{
     MAX_ENVS, MAX_EVAL_EPISODES, MAX_SAMPLES_PER_ITER, check_positive, check_widths,
@@ -127,6 +128,10 @@ pub struct TrainConfig {
     /// `dapg.rs`); absent: the step sees the policy's batch alone.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub demonstration_rows: Option<DemonstrationRowsConfig>,
+    /// `[algorithm] name`: the preset this config was laid over (`presets.rs`); its
+    /// keys are already in the tables above.
+    #[serde(rename = "algorithm", default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<AlgorithmPreset>,
 }
 
 /// `[reward]`: what the improvement step ascends, per step
@@ -368,7 +373,15 @@ impl TrainConfig {
             path: path.to_path_buf(),
             message,
         };
-        let mut config: TrainConfig = toml::from_str(text).map_err(|e| err(one_line(&e)))?;
+        let mut config: TrainConfig = match presets::named(text) {
+            // `[algorithm] name`: the preset's keys under the config's own.
+            true => {
+                let table: toml::Table = toml::from_str(text).map_err(|e| err(one_line(&e)))?;
+                let expanded = presets::expand(table, lay_over).map_err(err)?;
+                TrainConfig::deserialize(expanded).map_err(|e| err(one_line(&e)))?
+            }
+            false => toml::from_str(text).map_err(|e| err(one_line(&e)))?,
+        };
         // Absolute (and without `..` where the file exists), so that the copy saved with a
         // run (config.toml, the checkpoint's metadata) still points at the same files when
         // the run is resumed.

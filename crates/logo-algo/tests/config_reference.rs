@@ -29,6 +29,7 @@ const SECTIONS: &[(&str, &str, Option<&str>)] = &[
     ),
     ("`[init]`", "[init]\nunknown_key = 1\n", None),
     ("`[reward]`", "[reward]\nunknown_key = 1\n", None),
+    ("`[algorithm]`", "[algorithm]\nunknown_key = 1\n", None),
     (
         "`[demonstration_rows]`",
         "[demonstration_rows]\nunknown_key = 1\n",

@@ -238,3 +238,90 @@ fn compare_makes_the_baselines_of_the_config_folders() {
         }
     }
 }
+
+/// `[algorithm] name = "…"` over the TRPO config (or LOGO's, for its variants) gives the
+/// algorithm's `configs/` folder: each preset is what its folder adds, no more.
+#[test]
+fn each_preset_makes_its_config_folder() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = std::env::temp_dir().join(format!("logo-presets-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for env in ENVS {
+        let demos = root.join("data/logo").join(env).canonicalize().unwrap();
+        let demos = format!("demos = {:?}\n", demos.display().to_string());
+        let text = |algo: &str| {
+            let path = root.join("configs").join(algo).join(format!("{env}.toml"));
+            std::fs::read_to_string(path).unwrap()
+        };
+        for name in logo_algo::presets::NAMES {
+            if name == "logo-fast" && env == "inverted_double_pendulum" {
+                continue; // IDP's fast preset keeps float64 (the_fast_preset_is_...).
+            }
+            let base = match name {
+                "trpo" | "ppo" => text("trpo"),
+                "bc-trpo" | "dapg" => format!("{}\n[init]\n{demos}", text("trpo")),
+                "gail" | "pofd" => format!("{}\n[guidance]\n{demos}", text("trpo")),
+                _ => text("logo").replace(&format!("demos = \"../../data/logo/{env}\"\n"), &demos),
+            };
+            let path = dir.join(format!("{name}-{env}.toml"));
+            std::fs::write(&path, format!("{base}\n[algorithm]\nname = \"{name}\"\n")).unwrap();
+            let mut made = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(made.preset.take().map(|p| p.name).as_deref(), Some(name));
+            let folder = root.join("configs").join(name).join(format!("{env}.toml"));
+            let shipped = TrainConfig::load(&folder).unwrap();
+            assert_eq!(made, shipped, "[algorithm] name = {name:?} on {env}");
+        }
+    }
+}
+
+#[test]
+fn a_preset_that_cannot_go_with_the_config_is_refused_naming_it() {
+    let dir = std::env::temp_dir().join(format!("logo-presets-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = "env = \"SparseHopper-v4\"\niterations = 1\nsamples_per_iter = 1000\n";
+    let guidance = "[guidance]\ndemos = \"x\"\ndelta0 = 0.1\nalpha = 0.9\nwarmup = 1\n";
+    for (tables, expected) in [
+        (
+            "[algorithm]\nname = \"sac\"\n",
+            "is no preset; expected one of trpo",
+        ),
+        (
+            "[algorithm]\nname = \"logo\"\n",
+            "needs [guidance] with its demos and delta0",
+        ),
+        (
+            "[algorithm]\nname = \"gail\"\n",
+            "needs [guidance] with its demos",
+        ),
+        (
+            "[algorithm]\nname = \"trpo\"\nother = 1\n",
+            "algorithm: unknown field `other`",
+        ),
+    ] {
+        let path = dir.join("bad.toml");
+        std::fs::write(&path, format!("{base}{tables}")).unwrap();
+        let err = TrainConfig::load(&path).unwrap_err().to_string();
+        assert!(
+            err.contains("bad.toml") && err.contains(expected),
+            "{tables}: {err}"
+        );
+    }
+    let path = dir.join("bad.toml");
+    std::fs::write(
+        &path,
+        format!("{base}{guidance}[algorithm]\nname = \"dapg\"\n"),
+    )
+    .unwrap();
+    let err = TrainConfig::load(&path).unwrap_err().to_string();
+    assert!(err.contains("remove [guidance]"), "{err}");
+    // A key of the config wins over the preset's.
+    let path = dir.join("own.toml");
+    std::fs::write(
+        &path,
+        format!("{base}[algorithm]\nname = \"dapg\"\n[init]\ndemos = \"x\"\n[demonstration_rows]\nlambda0 = 0.5\n"),
+    )
+    .unwrap();
+    let err = TrainConfig::load(&path).unwrap_err().to_string();
+    // (the demonstrations "x" do not exist: the config got as far as its files)
+    assert!(err.contains("init.demos"), "{err}");
+}

@@ -199,20 +199,10 @@ pub fn clone_on<E: Engine>(engine: &E, job: &BcJob) -> Result<BcOutcome> {
         .init::<Cpu>(&device)
     };
     let policy = Policy::from_module(engine, &module);
-    let mut rng = bc::generator(job.seed);
-    let (fitted, report) = bc::fit(
-        engine,
-        &policy,
-        &demos.obs,
-        &demos.actions,
-        &job.fit,
-        &mut rng,
-    );
-    anyhow::ensure!(
-        fitted.is_finite(engine),
-        "behaviour cloning on {} left a non-finite parameter (try a smaller --learning-rate)",
-        job.demos.display()
-    );
+    let pairs = (&demos.obs[..], &demos.actions[..]);
+    let what = job.demos.display().to_string();
+    let (fitted, report) = bc::clone_policy(engine, &policy, pairs, &job.fit, job.seed, &what)
+        .map_err(anyhow::Error::msg)?;
     let module = fitted.to_module(engine, module);
     let mut meta = CheckpointMeta::new(&spec.id, spec.obs_dim, spec.act_dim, "bc");
     meta.seed = job.seed;

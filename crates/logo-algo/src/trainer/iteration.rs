@@ -71,7 +71,9 @@ impl<E: Engine> Trainer<E> {
         let (with_demonstrations, demo_weight) = self.demonstration_rows(k, batch, &env);
 
         // 3. δ_k, then the guidance reward and its advantages while δ_k is above its floor.
-        let guidance = in_phase("advantages", || self.guidance_stream(k, batch, &data))?;
+        let guidance = in_phase("advantages", || {
+            self.guidance_stream(k, batch, &data, mixed.as_ref())
+        })?;
         let t_advantages = clock.lap();
 
         self.learner.iteration += 1;
@@ -192,12 +194,13 @@ impl<E: Engine> Trainer<E> {
 
     /// Step 3: δ_k from the batch's mean sparse return (or success rate: `decay_on`);
     /// then, while δ_k is above its floor, r_C and its advantages with the guidance
-    /// critic.
+    /// critic. Where `[reward]` mixed −log D in already (`mixed`), r_C is taken from it.
     fn guidance_stream(
         &mut self,
         k: usize,
         batch: &Batch,
         data: &StepBatch<E>,
+        mixed: Option<&GuidanceReward<E>>,
     ) -> Result<Option<GuidanceStream<E>>, TrainError> {
         let step = self.config.guidance.as_ref().is_some_and(|g| g.step);
         let Some(g) = self.learner.guidance.as_mut().filter(|_| step) else {
@@ -207,7 +210,14 @@ impl<E: Engine> Trainer<E> {
         if !g.schedule.guidance_on() {
             return Ok(None);
         }
-        let reward = g.rewards(&self.resources.engine, batch, data);
+        let reward = match mixed {
+            // The same −log D; its inputs stay with `mixed` for the discriminator's update.
+            Some(r_c) => GuidanceReward {
+                rewards: r_c.rewards.clone(),
+                discriminator_inputs: None,
+            },
+            None => g.rewards(&self.resources.engine, batch, data),
+        };
         let critic = self
             .learner
             .critics

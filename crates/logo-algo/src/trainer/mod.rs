@@ -239,18 +239,9 @@ fn behaviour_clone<E: Engine>(
         *norm = stats.module(&Default::default());
     }
     let policy = Policy::from_module(engine, &networks.policy);
-    let mut rng = bc::generator(config.seed);
-    let (fitted, report) = bc::fit(
-        engine,
-        &policy,
-        &obs,
-        &demos.actions,
-        &config.init,
-        &mut rng,
-    );
-    if !fitted.is_finite(engine) {
-        return Err(format!("behaviour cloning on {key} left a non-finite parameter").into());
-    }
+    let pairs = (&obs[..], &demos.actions[..]);
+    let (fitted, report) =
+        bc::clone_policy(engine, &policy, pairs, &config.init, config.seed, key)?;
     networks.policy = fitted.to_module(engine, networks.policy.clone());
     Ok(Some(report))
 }

@@ -100,7 +100,7 @@ def _value(toml_text: str, key: str) -> int:
 def _train_once(config: Path, run_dir: Path, seed: int, iterations: int, common: dict) -> None:
     """Trains the run unless it has done `iterations`; resumes (extends) it where a
     checkpoint is."""
-    if (run_dir / "eval.json").is_file() and _rows(run_dir) >= iterations:
+    if (run_dir / "eval.json").is_file() and len(_metrics(run_dir)) >= iterations:
         return
     if (run_dir / "checkpoint.safetensors").is_file():
         train(resume=run_dir, iterations=iterations, **common)
@@ -108,15 +108,15 @@ def _train_once(config: Path, run_dir: Path, seed: int, iterations: int, common:
         train(config, seed=seed, iterations=iterations, out=run_dir, **common)
 
 
-def _rows(run_dir: Path) -> int:
+def _metrics(run_dir: Path) -> list[dict]:
+    """The run's metrics.csv rows."""
     with open(run_dir / "metrics.csv", newline="") as f:
-        return sum(1 for _ in csv.DictReader(f))
+        return list(csv.DictReader(f))
 
 
 def _returns_at(run_dir: Path, budget: float) -> float:
     """The dense evaluation's return at `budget` samples, linear between evaluations."""
-    with open(run_dir / "metrics.csv", newline="") as f:
-        rows = list(csv.DictReader(f))
+    rows = _metrics(run_dir)
     x = np.array([float(r["samples"]) for r in rows])
     if not rows or x[-1] < budget:
         raise ValueError(f"{run_dir}: the run stops before {budget:.0f} samples")
