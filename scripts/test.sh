@@ -50,6 +50,11 @@ fi
 echo "== cargo test --release --workspace"
 cargo test --release --workspace "$@"
 
+# The wheel for users elsewhere (manylinux, no path of this machine): a build of its own,
+# audited and installed into a fresh venv by crates/logo-py/tests/test_wheel.py.
+echo "== scripts/wheel.sh (the distribution wheel, dist/)"
+./scripts/wheel.sh
+
 # The Python package (built and installed into .venv by setup.sh); its tests compare
 # with the `logo` binary the Rust tests just built.
 echo "== pytest crates/logo-py/tests (the Python package logo_rl)"

@@ -2,7 +2,7 @@
 //! write ctrl, `mj_step` frame-skip times, `mj_rnePostConstraint`, then the task's
 //! reward, termination and observation; a `TimeLimit` on top reports truncation.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::{Arc, Mutex, Once};
 
 use mujoco_rs::prelude::{MjData, MjLogMessage, MjModel, MjtLogLevel, set_log_handler};
@@ -16,10 +16,16 @@ use crate::env::{Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo};
 pub type Data = MjData<Arc<MjModel>>;
 
 /// Where the MJCF files live: `$LOGO_MODELS_DIR`, else the repository's `models/`.
+/// The distribution wheel (`scripts/wheel.sh`, `--cfg logo_wheel`) has no repository to
+/// fall back on, and keeps no path of the machine that built it: `logo_rl` always sets
+/// the variable (to the gymnasium wheel's assets).
 pub fn models_dir() -> PathBuf {
     match std::env::var_os("LOGO_MODELS_DIR") {
         Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models"),
+        #[cfg(not(logo_wheel))]
+        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../models"),
+        #[cfg(logo_wheel)]
+        None => PathBuf::from("models"),
     }
 }
 
