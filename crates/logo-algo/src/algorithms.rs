@@ -181,18 +181,15 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
                 demos: guidance.demos.clone(),
                 ..base.init.clone()
             };
-            let PolicyUpdateConfig::Trpo(trpo) = &base.improvement else {
-                return Err(format!(
-                    "dapg: its natural-gradient step takes the LOGO config's trpo settings; \
-                     [improvement] kind is \"{}\"",
-                    base.improvement.kind()
-                ));
-            };
-            config.improvement = PolicyUpdateConfig::Npg(NpgConfig {
-                damping: trpo.damping,
-                cg_iters: trpo.cg_iters,
-                fisher_fraction: trpo.fisher_fraction,
-                fisher: trpo.fisher,
+            // The natural-gradient settings of the config's step where it has them.
+            config.improvement = PolicyUpdateConfig::Npg(match &base.improvement {
+                PolicyUpdateConfig::Trpo(t) | PolicyUpdateConfig::ClipInTrpo(t) => NpgConfig {
+                    damping: t.damping,
+                    cg_iters: t.cg_iters,
+                    fisher_fraction: t.fisher_fraction,
+                    fisher: t.fisher,
+                },
+                _ => NpgConfig::default(),
             });
             config.demonstration_rows = Some(DemonstrationRowsConfig {
                 demos: None,

@@ -129,8 +129,10 @@ pub struct TrainConfig {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub demonstration_rows: Option<DemonstrationRowsConfig>,
     /// `[algorithm] name`: the preset this config was laid over (`presets.rs`); its
-    /// keys are already in the tables above.
-    #[serde(rename = "algorithm", default, skip_serializing_if = "Option::is_none")]
+    /// keys are already in the tables above. Not written back: a run's stored config
+    /// holds the expanded tables alone, which read back to the same config (laying the
+    /// preset under them again would bring back keys the config had set to defaults).
+    #[serde(rename = "algorithm", default, skip_serializing)]
     pub preset: Option<AlgorithmPreset>,
 }
 
@@ -373,13 +375,14 @@ impl TrainConfig {
             path: path.to_path_buf(),
             message,
         };
-        let mut config: TrainConfig = match presets::named(text) {
+        let table: toml::Table = toml::from_str(text).map_err(|e| err(one_line(&e)))?;
+        let mut config: TrainConfig = match table.contains_key("algorithm") {
             // `[algorithm] name`: the preset's keys under the config's own.
             true => {
-                let table: toml::Table = toml::from_str(text).map_err(|e| err(one_line(&e)))?;
                 let expanded = presets::expand(table, lay_over).map_err(err)?;
                 TrainConfig::deserialize(expanded).map_err(|e| err(one_line(&e)))?
             }
+            // Read from the text, so that an error points at its line.
             false => toml::from_str(text).map_err(|e| err(one_line(&e)))?,
         };
         // Absolute (and without `..` where the file exists), so that the copy saved with a

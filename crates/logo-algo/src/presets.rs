@@ -3,7 +3,7 @@
 //! the demonstrations, and the preset the rest: `name = "gail"` is `[guidance] step =
 //! false` and `[reward] env = 0, discriminator = 1`. Each preset is the difference between
 //! its `configs/<name>/` folder and `configs/trpo/` (or `configs/logo/` for LOGO's
-//! variants); a test holds them to it.
+//! variants); a test holds them to it. A run stores the expanded tables, not the name.
 
 use serde::{Deserialize, Serialize};
 
@@ -30,8 +30,7 @@ pub const NAMES: [&str; 13] = [
     "logo-ppo-penalty",
 ];
 
-/// `[algorithm]`: the preset's name, kept in the run's stored config beside the tables it
-/// expanded into.
+/// `[algorithm]`: the preset's name.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AlgorithmPreset {
@@ -93,15 +92,6 @@ enum Guidance {
     Discriminator,
     /// LOGO's guidance, with its step.
     Step,
-}
-
-/// Whether a config's text names a preset (`[algorithm]`, or `algorithm = {...}`): a
-/// cheap look before the table is read twice.
-pub fn named(text: &str) -> bool {
-    text.lines().any(|l| {
-        let l = l.trim_start();
-        l.starts_with("[algorithm]") || (l.starts_with("algorithm") && l.contains('='))
-    })
 }
 
 /// `table` with its `[algorithm]` preset's keys laid under it (the table's own win),

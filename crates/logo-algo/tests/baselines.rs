@@ -237,3 +237,34 @@ fn demonstration_rows_need_npg_and_demonstrations() {
     let decay = npg_from_bc(Some(0.1)).set("demonstration_rows.lambda1", 1.5);
     assert!(refused(decay).contains("lambda1 must be in [0, 1]"));
 }
+
+/// `skip_improvement_without_reward` skips TRPO's step on a batch without env reward, but
+/// not DAPG's: its demonstration rows are the step's signal then.
+#[test]
+fn the_rewardless_skip_keeps_dapgs_step() {
+    let hopper_demos = workspace().join("data/logo/hopper").display().to_string();
+    let unpaid = "[env]\nid = \"Hopper-v4\"\nsparse = { kind = \"distance\", threshold = 1000.0 }";
+    let stops = |tiny: Tiny, name: &str| {
+        let dir = scratch(name);
+        train(
+            tiny.with(unpaid)
+                .set("skip_improvement_without_reward", true),
+            &dir,
+        );
+        let metrics = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
+        let mut lines = metrics.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let column = header.iter().position(|c| *c == "update_stop").unwrap();
+        lines
+            .map(|l| l.split(',').nth(column).unwrap().to_string())
+            .collect::<Vec<_>>()
+    };
+    let trpo = stops(Tiny::trpo(), "skip-trpo");
+    assert!(trpo.iter().all(|s| s == "no-reward"), "{trpo:?}");
+    let dapg = Tiny::trpo()
+        .set("init.demos", hopper_demos.as_str())
+        .set("init.epochs", 2)
+        .set("algorithm.name", "dapg");
+    let dapg = stops(dapg, "skip-dapg");
+    assert!(dapg.iter().all(|s| s == "accepted"), "{dapg:?}");
+}

@@ -270,6 +270,10 @@ fn each_preset_makes_its_config_folder() {
             let folder = root.join("configs").join(name).join(format!("{env}.toml"));
             let shipped = TrainConfig::load(&folder).unwrap();
             assert_eq!(made, shipped, "[algorithm] name = {name:?} on {env}");
+            // What a run stores of it reads back to the same config.
+            let stored = dir.join(format!("{name}-{env}-stored.toml"));
+            std::fs::write(&stored, toml::to_string(&made).unwrap()).unwrap();
+            assert_eq!(TrainConfig::load(&stored).unwrap(), made, "{name} on {env}");
         }
     }
 }
@@ -324,4 +328,24 @@ fn a_preset_that_cannot_go_with_the_config_is_refused_naming_it() {
     let err = TrainConfig::load(&path).unwrap_err().to_string();
     // (the demonstrations "x" do not exist: the config got as far as its files)
     assert!(err.contains("init.demos"), "{err}");
+    // A key set back to its default stays so through the stored config: DAPG without
+    // behaviour cloning remains without it.
+    let demos = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/logo/hopper");
+    let path = dir.join("random.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "{base}[algorithm]\nname = \"dapg\"\n[init]\nkind = \"random\"\n\
+             [demonstration_rows]\ndemos = {:?}\n",
+            demos.display().to_string()
+        ),
+    )
+    .unwrap();
+    let config = TrainConfig::load(&path).unwrap();
+    assert_eq!(config.algorithm(), "DAPG (no behaviour cloning)");
+    let stored = dir.join("random-stored.toml");
+    std::fs::write(&stored, toml::to_string(&config).unwrap()).unwrap();
+    let again = TrainConfig::load(&stored).unwrap();
+    assert_eq!(again.algorithm(), "DAPG (no behaviour cloning)");
+    assert!(again.preset.is_none());
 }

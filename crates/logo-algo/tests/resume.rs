@@ -88,6 +88,18 @@ fn a_killed_gail_run_resumes_to_the_same_final_checkpoint() {
     check("gail", gail);
 }
 
+/// DAPG: behaviour cloning, NPG steps with the demonstrations' rows (their weight decays
+/// with the iteration, so a resume must continue k).
+#[test]
+fn a_killed_dapg_run_resumes_to_the_same_final_checkpoint() {
+    let demos = logo_testkit::workspace().join("data/logo/inverted_double_pendulum");
+    let dapg = Tiny::trpo()
+        .set("init.demos", demos.to_str().expect("a UTF-8 path"))
+        .set("init.epochs", 2)
+        .set("algorithm.name", "dapg");
+    check("dapg", dapg);
+}
+
 #[test]
 fn a_steps_mode_run_says_it_cannot_be_resumed() {
     let dir = scratch("steps");

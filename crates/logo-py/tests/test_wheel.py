@@ -60,8 +60,8 @@ def test_the_extension_keeps_no_path_of_the_build_machine(extension):
     data = extension.read_bytes()
     here = {
         "the checkout": str(ROOT),
-        "the target folder": os.environ.get("CARGO_TARGET_DIR", str(ROOT / "target")),
-        "cargo's home": os.environ.get("CARGO_HOME", str(Path.home() / ".cargo")),
+        "the target folder": str((ROOT / os.environ.get("CARGO_TARGET_DIR", "target")).resolve()),
+        "cargo's home": str(Path(os.environ.get("CARGO_HOME", Path.home() / ".cargo")).resolve()),
     }
     for what, path in here.items():
         found = path.encode() in data

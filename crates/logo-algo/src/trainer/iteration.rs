@@ -79,8 +79,11 @@ impl<E: Engine> Trainer<E> {
         self.learner.iteration += 1;
         self.learner.samples += batch.len();
         // 4-8.
-        // Of the improvement step's reward: a mixed one (GAIL, POfD) is never skipped.
-        let rewardless = mixed.is_none() && batch.rewards.iter().all(|&r| r == 0.0);
+        // Of the improvement step's reward: a mixed one (GAIL, POfD) is never skipped, nor
+        // a step with DAPG's demonstration rows (their pull is the step's signal then).
+        let rewardless = mixed.is_none()
+            && with_demonstrations.is_none()
+            && batch.rewards.iter().all(|&r| r == 0.0);
         // The discriminator learns from this batch's pairs wherever its reward was used.
         let discriminator_inputs = guidance
             .as_ref()
