@@ -168,34 +168,20 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
             config.init = base.init.clone();
         }
         "trpo" => {}
-        "bc-trpo" => {
+        "bc-trpo" | "dapg" => {
             config.init = InitConfig {
                 kind: InitKind::Bc,
                 demos: guidance.demos.clone(),
                 ..base.init.clone()
             };
-        }
-        "dapg" => {
-            config.init = InitConfig {
-                kind: InitKind::Bc,
-                demos: guidance.demos.clone(),
-                ..base.init.clone()
-            };
-            // The natural-gradient settings of the config's step where it has them.
-            config.improvement = PolicyUpdateConfig::Npg(match &base.improvement {
-                PolicyUpdateConfig::Trpo(t) | PolicyUpdateConfig::ClipInTrpo(t) => NpgConfig {
-                    damping: t.damping,
-                    cg_iters: t.cg_iters,
-                    fisher_fraction: t.fisher_fraction,
-                    fisher: t.fisher,
-                },
-                _ => NpgConfig::default(),
-            });
-            config.demonstration_rows = Some(DemonstrationRowsConfig {
-                demos: None,
-                lambda0: DAPG_LAMBDA.0,
-                lambda1: DAPG_LAMBDA.1,
-            });
+            if name == "dapg" {
+                config.improvement = PolicyUpdateConfig::Npg(npg_of(&base.improvement));
+                config.demonstration_rows = Some(DemonstrationRowsConfig {
+                    demos: None,
+                    lambda0: DAPG_LAMBDA.0,
+                    lambda1: DAPG_LAMBDA.1,
+                });
+            }
         }
         "gail" | "pofd" => {
             config.guidance = Some(discriminator_alone());
@@ -219,6 +205,19 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
     }
     config.validate()?;
     Ok(config)
+}
+
+/// DAPG's step with the natural-gradient settings of `step` where it has them.
+fn npg_of(step: &PolicyUpdateConfig) -> NpgConfig {
+    match step {
+        PolicyUpdateConfig::Trpo(t) | PolicyUpdateConfig::ClipInTrpo(t) => NpgConfig {
+            damping: t.damping,
+            cg_iters: t.cg_iters,
+            fisher_fraction: t.fisher_fraction,
+            fisher: t.fisher,
+        },
+        _ => NpgConfig::default(),
+    }
 }
 
 pub use crate::presets::{DAPG_LAMBDA, POFD_LAMBDA};

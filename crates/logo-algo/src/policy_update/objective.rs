@@ -28,6 +28,24 @@ pub struct StepBatch<E: Engine> {
 }
 
 impl<E: Engine> StepBatch<E> {
+    /// The policy's own batch (no demonstration rows).
+    pub fn of_policy(
+        obs: E::Rows,
+        actions: Tensor<E::B, 2>,
+        logp_old: Tensor<E::B, 1>,
+        advantages: Tensor<E::B, 1>,
+        rows: usize,
+    ) -> Self {
+        Self {
+            obs,
+            actions,
+            logp_old,
+            advantages,
+            rows,
+            demonstration_rows: 0,
+        }
+    }
+
     /// The rows at `indices` (a minibatch, a subsample of the policy's own rows).
     pub fn select(&self, engine: &E, indices: &[usize]) -> Self {
         Self {

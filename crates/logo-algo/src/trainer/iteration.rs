@@ -57,15 +57,8 @@ impl<E: Engine> Trainer<E> {
 
         // 2. Advantages of the improvement step's reward, with the env critic as it stands.
         let (env, mixed) = in_phase("advantages", || self.improvement_advantages(batch, &obs));
-        let engine = &self.resources.engine;
-        let data = StepBatch {
-            advantages: engine.upload(&env.normalised, [batch.len()]),
-            obs,
-            actions,
-            logp_old: logp_k,
-            rows: batch.len(),
-            demonstration_rows: 0,
-        };
+        let advantages = self.resources.engine.upload(&env.normalised, [batch.len()]);
+        let data = StepBatch::of_policy(obs, actions, logp_k, advantages, batch.len());
         // 2b. DAPG: the demonstrations join the improvement step's batch, weighted
         //     w_k = λ0·λ1^k·max Â (`[demonstration_rows]`).
         let (with_demonstrations, demo_weight) = self.demonstration_rows(k, batch, &env);
@@ -79,11 +72,6 @@ impl<E: Engine> Trainer<E> {
         self.learner.iteration += 1;
         self.learner.samples += batch.len();
         // 4-8.
-        // Of the improvement step's reward: a mixed one (GAIL, POfD) is never skipped, nor
-        // a step with DAPG's demonstration rows (their pull is the step's signal then).
-        let rewardless = mixed.is_none()
-            && with_demonstrations.is_none()
-            && batch.rewards.iter().all(|&r| r == 0.0);
         // The discriminator learns from this batch's pairs wherever its reward was used.
         let discriminator_inputs = guidance
             .as_ref()
@@ -95,7 +83,8 @@ impl<E: Engine> Trainer<E> {
             improvement_data: with_demonstrations.as_ref().unwrap_or(&data),
             stream: guidance.as_ref(),
             discriminator_inputs,
-            skip_improvement: self.config.skip_improvement_without_reward && rewardless,
+            skip_improvement: self.config.skip_improvement_without_reward
+                && rewardless(batch, mixed.is_some() || with_demonstrations.is_some()),
         };
         let later = self
             .steps_and_fits(inputs, &env)
@@ -297,6 +286,13 @@ impl<E: Engine> Trainer<E> {
             next,
         })
     }
+}
+
+/// Whether the improvement step has nothing to learn from: no env reward in `batch` and
+/// no other signal (`other`: a mixed reward, GAIL's and POfD's, or DAPG's demonstration
+/// rows, whose pull is the step's signal then).
+fn rewardless(batch: &Batch, other: bool) -> bool {
+    !other && batch.rewards.iter().all(|&r| r == 0.0)
 }
 
 /// What δ_k's schedule reads of `batch`: its mean return, or its success rate
