@@ -210,12 +210,7 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
 /// DAPG's step with the natural-gradient settings of `step` where it has them.
 fn npg_of(step: &PolicyUpdateConfig) -> NpgConfig {
     match step {
-        PolicyUpdateConfig::Trpo(t) | PolicyUpdateConfig::ClipInTrpo(t) => NpgConfig {
-            damping: t.damping,
-            cg_iters: t.cg_iters,
-            fisher_fraction: t.fisher_fraction,
-            fisher: t.fisher,
-        },
+        PolicyUpdateConfig::Trpo(t) | PolicyUpdateConfig::ClipInTrpo(t) => NpgConfig::from(t),
         _ => NpgConfig::default(),
     }
 }

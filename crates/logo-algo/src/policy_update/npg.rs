@@ -29,7 +29,13 @@ pub struct NpgConfig {
 
 impl Default for NpgConfig {
     fn default() -> Self {
-        let trpo = super::TrpoConfig::default();
+        Self::from(&super::TrpoConfig::default())
+    }
+}
+
+/// `trpo`'s settings of the natural-gradient direction (its line search left out).
+impl From<&super::TrpoConfig> for NpgConfig {
+    fn from(trpo: &super::TrpoConfig) -> Self {
         Self {
             damping: trpo.damping,
             cg_iters: trpo.cg_iters,
