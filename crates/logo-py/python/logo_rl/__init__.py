@@ -30,6 +30,33 @@ def _models_dir() -> str:
 # Read by the Rust side each time it loads a model; a user's own setting wins.
 _os.environ.setdefault("LOGO_MODELS_DIR", _models_dir())
 
+# The MuJoCo the extension was built against; pyproject.toml pins the wheel to match.
+_MUJOCO_LIBRARY = "libmujoco.so.3.17.0"
+
+
+def _load_mujoco() -> None:
+    """Loads the mujoco wheel's libmujoco with its symbols global, before the extension.
+
+    The distribution wheel's extension does not name libmujoco in its link table (a library
+    from outside the wheel there would cost it its manylinux tag: scripts/unlink_mujoco.py),
+    so its MuJoCo symbols are resolved against this one when it is imported. A checkout's
+    build names it as well; the loader then finds this copy already loaded, by its soname.
+    """
+    import ctypes
+
+    spec = _util.find_spec("mujoco")
+    folders = list(spec.submodule_search_locations or []) if spec else []
+    for folder in folders:
+        path = _os.path.join(folder, _MUJOCO_LIBRARY)
+        if _os.path.isfile(path):
+            ctypes.CDLL(path, mode=ctypes.RTLD_GLOBAL)
+            return
+    where = f" (the installed mujoco, in {folders[0]}, has no {_MUJOCO_LIBRARY})" if folders else ""
+    raise ImportError(f"logo_rl needs mujoco==3.17.0 (pip install mujoco==3.17.0){where}")
+
+
+_load_mujoco()
+
 from ._logo_rl import MUJOCO_VERSION, LogoError, __version__, env_ids  # noqa: E402
 from .bc import Cloned, bc  # noqa: E402
 from .compare import compare  # noqa: E402
