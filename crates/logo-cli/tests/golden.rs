@@ -281,3 +281,73 @@ fn sparse_kinds_in_the_config_train_as_the_logo_ids() {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+/// One kept run of each checkpoint family under `docs/results/`: every algorithm, step
+/// kind, critic kind, float type and env form a kept checkpoint has, and the older
+/// config layouts among them.
+const KEPT_FAMILIES: &[&str] = &[
+    "paper-scale/hopper/hopper/seed0",
+    "paper-scale/hopper/hopper_ppo_cdq_skip_rewardless/seed2",
+    "halfcheetah-fall/halfcheetah/seed1",
+    "hc-reference-exact/seed3",
+    "fisher-damping/walker2d_reference_fisher/seed0",
+    "new-task/ant/runs-sigma1/logo/seed2",
+    "new-task/reacher/runs/logo/seed2",
+    "new-task/reacher/runs/trpo/seed0",
+];
+
+/// Where each kept family's run is after one more iteration: `logo train --resume` on a
+/// copy of it, the new checkpoint's iteration, samples and tensors as one SHA-256.
+fn resume_digest(kept: &str) -> String {
+    let from = root().join("docs/results").join(kept);
+    let dir = std::env::temp_dir().join(format!(
+        "logo-golden-{}-resume-{}",
+        std::process::id(),
+        kept.replace('/', "-")
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for file in ["checkpoint.safetensors", "metrics.csv", "config.toml"] {
+        std::fs::copy(from.join(file), dir.join(file))
+            .unwrap_or_else(|e| panic!("{kept}/{file}: {e}"));
+    }
+    let before = Checkpoint::load(&dir.join("checkpoint.safetensors")).unwrap();
+    let next = before.meta.iteration + 1;
+    let status = Command::new(env!("CARGO_BIN_EXE_logo"))
+        .current_dir(root())
+        .args(["train", "--no-tensorboard", "--iterations", &next.to_string()])
+        .arg("--resume")
+        .arg(&dir)
+        .stdout(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success(), "{kept}: logo train --resume failed");
+    let after = Checkpoint::load(&dir.join("checkpoint.safetensors")).unwrap();
+    assert_eq!(after.meta.iteration, next, "{kept}");
+    let mut hash = Sha256::new();
+    hash.update(after.meta.extra["samples"].to_string());
+    hash.update(tensors(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+    let digest: String = hash.finalize().iter().map(|b| format!("{b:02x}")).collect();
+    format!("{kept} {next} {digest}\n")
+}
+
+/// Every kept checkpoint family resumes exactly as it did when the digests were recorded
+/// (commit fd906cb, before the learner state's format got a version): however the
+/// checkpoint format moves on, old checkpoints read through its migration and go on
+/// bit for bit.
+#[test]
+fn kept_checkpoint_families_resume_to_their_recorded_digests() {
+    let got: String = KEPT_FAMILIES.iter().map(|kept| resume_digest(kept)).collect();
+    let fixture = root().join("tests/golden/resume-digests.txt");
+    if std::env::var_os("LOGO_GOLDEN_WRITE").is_some() {
+        std::fs::write(&fixture, &got).unwrap();
+        return;
+    }
+    let want = std::fs::read_to_string(&fixture)
+        .unwrap_or_else(|e| panic!("{}: {e}", fixture.display()));
+    for (got, want) in got.lines().zip(want.lines()) {
+        assert_eq!(got, want, "a kept run resumed to another digest");
+    }
+    assert_eq!(got.lines().count(), want.lines().count(), "{}", fixture.display());
+}
