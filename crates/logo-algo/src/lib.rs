@@ -44,4 +44,4 @@ pub mod validate;
 
 pub use config::{ConfigError, EvalInitialStates, FloatType, TrainConfig};
 pub use metrics::IterationMetrics;
-pub use trainer::{EngineSpan, LearnerState, Schedule, Trainer, engine_history};
+pub use trainer::{EngineSpan, Learned, LearnerState, Schedule, Trainer, engine_history};

@@ -204,7 +204,8 @@ fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
         ),
     ] {
         let ((table, key, value), expected) = (edit, expected);
-        let err = resume_edited(&|c| c.meta.extra["resume"][table][key] = value.clone());
+        let err =
+            resume_edited(&|c| c.meta.extra["resume"]["guidance"][table][key] = value.clone());
         assert!(err.contains(expected), "{table}.{key} = {value}: {err}");
     }
     let samples = good.meta.extra["resume"]["samples"].as_u64().unwrap();
@@ -290,12 +291,13 @@ fn kept_checkpoints() -> Vec<std::path::PathBuf> {
     found
 }
 
-/// Every kept checkpoint read as a learner's state and written again holds the same
-/// networks, bit for bit, and the same resume record and engine history: the checkpoint
-/// is that state.
+/// Every kept checkpoint (format 1) read as a learner's state and written again (in
+/// today's format) holds the same networks, bit for bit, the same engine history, and a
+/// resume state that reads back as the same learner's state: the checkpoint is that
+/// state, and its migration loses nothing.
 #[test]
 fn kept_checkpoints_are_learner_states() {
-    use logo_algo::LearnerState;
+    use logo_algo::{Learned, LearnerState};
     let kept = kept_checkpoints();
     assert!(
         kept.len() >= 20,
@@ -304,9 +306,14 @@ fn kept_checkpoints_are_learner_states() {
     );
     let dir = scratch("kept-round-trip");
     for path in kept {
+        let shown = path.display();
         let before = logo_nn::Checkpoint::load(&path).unwrap();
+        assert!(
+            before.meta.extra["resume"].get("format").is_none(),
+            "{shown}: a kept checkpoint of format 1 expected"
+        );
         let (config, state) =
-            LearnerState::load(&path, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            LearnerState::load(&path, None).unwrap_or_else(|e| panic!("{shown}: {e}"));
         let again = dir.join("checkpoint.safetensors");
         let engine = before.meta.extra["engine"]
             .as_str()
@@ -316,8 +323,14 @@ fn kept_checkpoints_are_learner_states() {
             .save(&again, &config, &before.meta.env_id, &engine)
             .unwrap();
         let after = logo_nn::Checkpoint::load(&again).unwrap();
-        let shown = path.display();
-        for key in ["resume", "engines", "samples"] {
+        assert_eq!(
+            after.meta.extra["resume"]["format"],
+            Learned::FORMAT,
+            "{shown}"
+        );
+        let (_, reread) = LearnerState::load(&again, None).unwrap();
+        assert_eq!(state.learned, reread.learned, "{shown}");
+        for key in ["engines", "samples"] {
             if !before.meta.extra[key].is_null() {
                 assert_eq!(
                     before.meta.extra[key], after.meta.extra[key],
@@ -333,6 +346,30 @@ fn kept_checkpoints_are_learner_states() {
             assert_eq!(before.tensor(name), after.tensor(name), "{shown}: {name}");
         }
     }
+}
+
+/// A resume state of a format this build does not know is refused by name, not read as
+/// something else.
+#[test]
+fn an_unknown_resume_format_is_refused() {
+    let dir = scratch("unknown-format");
+    let mut trainer = Trainer::new(Kernels, config(&dir, true), &dir).unwrap();
+    trainer.step().unwrap();
+    trainer.step().unwrap();
+    drop(trainer);
+    let path = dir.join("checkpoint.safetensors");
+    let mut ckpt = logo_nn::Checkpoint::load(&path).unwrap();
+    assert_eq!(ckpt.meta.extra["resume"]["format"], 2);
+    ckpt.meta.extra["resume"]["format"] = serde_json::json!(3);
+    ckpt.save(&path).unwrap();
+    let err = Trainer::resume(Kernels, &dir, None)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("resume state: format 3 is not one this logo-rl reads (1 to 2"),
+        "{err}"
+    );
 }
 
 /// A kept run of the paper-scale study goes on by one iteration from its checkpoint.

@@ -315,7 +315,12 @@ fn resume_digest(kept: &str) -> String {
     let next = before.meta.iteration + 1;
     let status = Command::new(env!("CARGO_BIN_EXE_logo"))
         .current_dir(root())
-        .args(["train", "--no-tensorboard", "--iterations", &next.to_string()])
+        .args([
+            "train",
+            "--no-tensorboard",
+            "--iterations",
+            &next.to_string(),
+        ])
         .arg("--resume")
         .arg(&dir)
         .stdout(Stdio::null())
@@ -338,16 +343,24 @@ fn resume_digest(kept: &str) -> String {
 /// bit for bit.
 #[test]
 fn kept_checkpoint_families_resume_to_their_recorded_digests() {
-    let got: String = KEPT_FAMILIES.iter().map(|kept| resume_digest(kept)).collect();
+    let got: String = KEPT_FAMILIES
+        .iter()
+        .map(|kept| resume_digest(kept))
+        .collect();
     let fixture = root().join("tests/golden/resume-digests.txt");
     if std::env::var_os("LOGO_GOLDEN_WRITE").is_some() {
         std::fs::write(&fixture, &got).unwrap();
         return;
     }
-    let want = std::fs::read_to_string(&fixture)
-        .unwrap_or_else(|e| panic!("{}: {e}", fixture.display()));
+    let want =
+        std::fs::read_to_string(&fixture).unwrap_or_else(|e| panic!("{}: {e}", fixture.display()));
     for (got, want) in got.lines().zip(want.lines()) {
         assert_eq!(got, want, "a kept run resumed to another digest");
     }
-    assert_eq!(got.lines().count(), want.lines().count(), "{}", fixture.display());
+    assert_eq!(
+        got.lines().count(),
+        want.lines().count(),
+        "{}",
+        fixture.display()
+    );
 }

@@ -8,7 +8,9 @@ use logo_data::Demonstrations;
 use logo_nn::flops::in_phase;
 use logo_nn::{ActingPolicy, Cpu, Engine, ObservationStats, Policy, load_reference_policy};
 
-use super::learner_state::{EngineSpan, GuidanceState, LearnerState, Networks, SamplerState};
+use super::learner_state::{
+    EngineSpan, GuidanceState, Learned, LearnerState, Networks, SamplerState,
+};
 use crate::config::{GuidanceConfig, TrainConfig};
 use crate::critic::CriticSet;
 use crate::discriminator::DiscriminatorTrainer;
@@ -41,10 +43,10 @@ impl<E: Engine> Learner<E> {
         state: &LearnerState,
         demos: Option<&Demonstrations>,
     ) -> Result<Self, TrainError> {
-        let networks = &state.networks;
+        let (networks, learned) = (&state.networks, &state.learned);
         let mut critic = CriticSet::new(engine, &config.critic, &networks.critic);
-        critic.adam = state.critic_adam.clone();
-        let (guidance, guidance_critic) = match (&config.guidance, &state.guidance) {
+        critic.adam = learned.critic_adam.clone();
+        let (guidance, guidance_critic) = match (&config.guidance, &learned.guidance) {
             (Some(g), Some(learned)) => {
                 let (g, critic) = guidance(engine, config, g, networks, learned, demos)?;
                 (Some(g), critic)
@@ -59,7 +61,7 @@ impl<E: Engine> Learner<E> {
         let mut engines = state.engines.clone();
         // A checkpoint that names no engine (written before they were recorded) still
         // starts the history at iteration 0, as every later check of it expects.
-        if engines.is_empty() && state.iteration > 0 {
+        if engines.is_empty() && learned.iteration > 0 {
             engines.push(EngineSpan {
                 from_iteration: 0,
                 engine: "not recorded".into(),
@@ -68,21 +70,21 @@ impl<E: Engine> Learner<E> {
         let now = engine.describe();
         if engines.last().map(|span| &span.engine) != Some(&now) {
             engines.push(EngineSpan {
-                from_iteration: state.iteration,
+                from_iteration: learned.iteration,
                 engine: now,
             });
         }
         Ok(Self {
             policy: Policy::from_module(engine, &networks.policy),
-            improvement: state.improvement.clone(),
+            improvement: learned.improvement.clone(),
             critics,
             guidance,
             observation_stats: networks
                 .observation_norm
                 .as_ref()
                 .map(ObservationStats::from_module),
-            iteration: state.iteration,
-            samples: state.samples,
+            iteration: learned.iteration,
+            samples: learned.samples,
             engines,
         })
     }
@@ -124,10 +126,9 @@ impl<E: Engine> Learner<E> {
                 .as_ref()
                 .map(|stats| stats.module(&Default::default())),
         };
-        LearnerState {
+        let learned = Learned {
             iteration: self.iteration,
             samples: self.samples,
-            networks,
             improvement: self.improvement.clone(),
             critic_adam: self.critics.env.adam.clone(),
             guidance: guidance.map(|g| GuidanceState {
@@ -142,6 +143,10 @@ impl<E: Engine> Learner<E> {
                 discriminator_adam: discriminator.map(|d| d.optim.clone()),
             }),
             sampler,
+        };
+        LearnerState {
+            networks,
+            learned,
             engines: self.engines.clone(),
         }
     }

@@ -4,8 +4,10 @@
 //! on. A new run starts from [`LearnerState::initial`], so new and resumed runs are
 //! built the same way.
 //!
-//! The file layout is the one every kept checkpoint has: the networks as named tensors
-//! (what `logo eval` reads), and the rest as JSON in the metadata's `resume` field.
+//! The networks are written as named tensors (what `logo eval` reads), the rest
+//! ([`Learned`]) as JSON in the metadata's `resume` field with a format version. Older
+//! layouts are read by one function, [`migrate`]: a new field of the state is a field of
+//! [`Learned`] (its value in [`LearnerState::initial`]) and a step there, nothing else.
 
 use std::path::Path;
 
@@ -27,10 +29,20 @@ use crate::run_dir::TrainError;
 
 /// Everything a run has learned and counted: see the module's doc.
 pub struct LearnerState {
+    pub networks: Networks,
+    /// The rest of what it has learned and counted (the checkpoint's `resume` field).
+    pub learned: Learned,
+    /// Which engine ran which iterations.
+    pub engines: Vec<EngineSpan>,
+}
+
+/// The learner's state besides its networks, as a checkpoint holds it in format
+/// [`Learned::FORMAT`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Learned {
     /// Iterations done, and env steps collected in them.
     pub iteration: usize,
     pub samples: usize,
-    pub networks: Networks,
     /// The improvement step's optimiser state (Adam moments, PPO-Penalty's β).
     pub improvement: UpdateState,
     /// Each env-critic net's Adam moments (the `adam` fit).
@@ -38,14 +50,12 @@ pub struct LearnerState {
     pub guidance: Option<GuidanceState>,
     /// The sampler's generator and every env copy's reset point before the next batch;
     /// None in a new run's state (the seed starts them) and where a run's batches carry
-    /// episodes over, which cannot be restored.
+    /// episodes over, which cannot be restored (such a checkpoint cannot be resumed).
     pub sampler: Option<SamplerState>,
-    /// Which engine ran which iterations.
-    pub engines: Vec<EngineSpan>,
 }
 
 /// What LOGO's guidance has learned besides its networks.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct GuidanceState {
     /// δ_k and how it moves.
     pub schedule: DeltaSchedule,
@@ -71,7 +81,7 @@ pub struct Networks<B: Backend = Cpu> {
 }
 
 /// The sampler's generator and every env copy's reset point between two batches.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SamplerState {
     pub rng: RngState,
     pub env_points: Vec<ResetPoint>,
@@ -84,9 +94,18 @@ pub struct EngineSpan {
     pub engine: String,
 }
 
-/// The metadata's `resume` field: the layout every kept checkpoint has, so it stays.
-#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
-struct ResumeRecord {
+/// The metadata's `resume` field as written: [`Learned`] with its format's number.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Versioned<L> {
+    format: u64,
+    #[serde(flatten)]
+    learned: L,
+}
+
+/// Format 1, which every checkpoint before the format got its number has (no `format`
+/// key; `null` where the sampler could not be restored).
+#[derive(serde::Deserialize)]
+struct FormatOne {
     iteration: usize,
     samples: usize,
     sampler_rng: RngState,
@@ -108,21 +127,23 @@ impl LearnerState {
         act_dim: usize,
     ) -> Result<Self, TrainError> {
         Ok(Self {
-            iteration: 0,
-            samples: 0,
             networks: Networks::init(config, obs_dim, act_dim)?,
-            improvement: UpdateState::default(),
-            critic_adam: vec![Adam::default(); config.critic.num_nets()],
-            guidance: config.guidance.as_ref().map(|g| GuidanceState {
-                schedule: g.schedule(),
-                update: UpdateState::default(),
-                critic_adam: vec![
-                    Adam::default();
-                    config.guidance_critic().map_or(0, |c| c.num_nets())
-                ],
-                discriminator_adam: g.demos.is_some().then(Adam::default),
-            }),
-            sampler: None,
+            learned: Learned {
+                iteration: 0,
+                samples: 0,
+                improvement: UpdateState::default(),
+                critic_adam: vec![Adam::default(); config.critic.num_nets()],
+                guidance: config.guidance.as_ref().map(|g| GuidanceState {
+                    schedule: g.schedule(),
+                    update: UpdateState::default(),
+                    critic_adam: vec![
+                        Adam::default();
+                        config.guidance_critic().map_or(0, |c| c.num_nets())
+                    ],
+                    discriminator_adam: g.demos.is_some().then(Adam::default),
+                }),
+                sampler: None,
+            },
             engines: Vec::new(),
         })
     }
@@ -132,29 +153,12 @@ impl LearnerState {
     pub fn load(path: &Path, iterations: Option<usize>) -> Result<(TrainConfig, Self), TrainError> {
         let ckpt = Checkpoint::load(path)?;
         let bad = |what: String| -> TrainError { format!("{}: {what}", path.display()).into() };
-        let (config, record) = read_record(path, &ckpt, iterations).map_err(bad)?;
+        let (config, learned) = read_record(path, &ckpt, iterations).map_err(bad)?;
         let meta = &ckpt.meta;
         let networks = ckpt.apply("", Networks::init(&config, meta.obs_dim, meta.act_dim)?)?;
         let state = Self {
-            iteration: record.iteration,
-            samples: record.samples,
             networks,
-            improvement: record.improvement,
-            critic_adam: record.critic_adam,
-            // (A schedule without `[guidance]` in the config has nothing to drive.)
-            guidance: record
-                .schedule
-                .filter(|_| config.guidance.is_some())
-                .map(|schedule| GuidanceState {
-                    schedule,
-                    update: record.guidance.unwrap_or_default(),
-                    critic_adam: record.guidance_critic_adam.unwrap_or_default(),
-                    discriminator_adam: record.discriminator_adam,
-                }),
-            sampler: Some(SamplerState {
-                rng: record.sampler_rng,
-                env_points: record.env_points,
-            }),
+            learned,
             engines: engine_history(meta).map_err(bad)?,
         };
         state.check_optimisers().map_err(bad)?;
@@ -180,14 +184,14 @@ impl LearnerState {
             .insert("policy".into(), dims[1..dims.len() - 1].to_vec());
         meta.networks
             .insert("critic".into(), config.critic.hidden.clone());
-        meta.iteration = self.iteration as u64;
+        meta.iteration = self.learned.iteration as u64;
         meta.seed = config.seed;
         meta.extra = serde_json::json!({
-            "samples": self.samples,
+            "samples": self.learned.samples,
             "engine": engine,
             "engines": self.engines,
             "config": config,
-            "resume": self.record(),
+            "resume": Versioned { format: Learned::FORMAT, learned: &self.learned },
         });
         let mut ckpt = Checkpoint::new(meta);
         ckpt.insert("", &self.networks);
@@ -195,33 +199,14 @@ impl LearnerState {
         Ok(())
     }
 
-    /// The metadata's `resume` field; None (JSON null) where the sampler cannot be
-    /// restored.
-    fn record(&self) -> Option<ResumeRecord> {
-        let sampler = self.sampler.clone()?;
-        let guidance = self.guidance.as_ref();
-        Some(ResumeRecord {
-            iteration: self.iteration,
-            samples: self.samples,
-            sampler_rng: sampler.rng,
-            env_points: sampler.env_points,
-            schedule: guidance.map(|g| g.schedule.clone()),
-            discriminator_adam: guidance.and_then(|g| g.discriminator_adam.clone()),
-            improvement: self.improvement.clone(),
-            guidance: guidance.map(|g| g.update.clone()),
-            critic_adam: self.critic_adam.clone(),
-            guidance_critic_adam: guidance.map(|g| g.critic_adam.clone()),
-        })
-    }
-
     /// Every optimiser state must fit the network it steps (a damaged or hand-edited
     /// checkpoint can get that wrong).
     fn check_optimisers(&self) -> Result<(), String> {
-        let networks = &self.networks;
+        let (networks, learned) = (&self.networks, &self.learned);
         let policy_len = networks.policy.num_params();
-        let mut adams = vec![("improvement.adam", &self.improvement.adam, policy_len)];
-        let mut sets = vec![("critic_adam", &self.critic_adam, &networks.critic)];
-        if let (Some(g), Some(nets)) = (&self.guidance, &networks.guidance_critic) {
+        let mut adams = vec![("improvement.adam", &learned.improvement.adam, policy_len)];
+        let mut sets = vec![("critic_adam", &learned.critic_adam, &networks.critic)];
+        if let (Some(g), Some(nets)) = (&learned.guidance, &networks.guidance_critic) {
             sets.push(("guidance_critic_adam", &g.critic_adam, nets));
         }
         for (name, set, nets) in sets {
@@ -236,7 +221,7 @@ impl LearnerState {
                 adams.push((name, adam, net.num_params()));
             }
         }
-        if let Some(g) = &self.guidance {
+        if let Some(g) = &learned.guidance {
             adams.push(("guidance.adam", &g.update.adam, policy_len));
             if let (Some(adam), Some(d)) = (&g.discriminator_adam, &networks.discriminator) {
                 adams.push(("discriminator_adam", adam, d.net.num_params()));
@@ -264,25 +249,24 @@ fn algorithm(config: &TrainConfig) -> &'static str {
     }
 }
 
-/// The config (with `iterations` if given) and the resume record of `ckpt`, checked
-/// against each other and against the networks the metadata lists.
+/// The config (with `iterations` if given) and the learner's state besides its networks
+/// in `ckpt`, checked against each other and against the networks the metadata lists.
 fn read_record(
     path: &Path,
     ckpt: &Checkpoint,
     iterations: Option<usize>,
-) -> Result<(TrainConfig, ResumeRecord), String> {
+) -> Result<(TrainConfig, Learned), String> {
     let extra = &ckpt.meta.extra;
     let mut config: TrainConfig = serde_json::from_value(extra["config"].clone())
         .map_err(|e| format!("metadata config: {e}"))?;
-    if extra["resume"].is_null() {
+    let learned = migrate(&extra["resume"], &config)?;
+    if learned.sampler.is_none() {
         return Err(
             "holds no resume state (runs with rollout = \"steps\" continue episodes \
              across iterations and cannot be resumed exactly; older checkpoints lack it)"
                 .into(),
         );
     }
-    let record: ResumeRecord = serde_json::from_value(extra["resume"].clone())
-        .map_err(|e| format!("metadata resume state: {e}"))?;
     // A run copied from another clone names files by that clone's absolute paths: they
     // are looked for under the working folder, then under each folder above the run's
     // (a run kept inside a clone finds that clone's data/).
@@ -301,9 +285,57 @@ fn read_record(
     config
         .validate()
         .map_err(|e| format!("metadata config: {e}"))?;
-    record.check(&config)?;
-    check_config_against_meta(&ckpt.meta, &config, &record)?;
-    Ok((config, record))
+    check_config_against_meta(&ckpt.meta, &config, &learned)?;
+    learned.check(&config)?;
+    Ok((config, learned))
+}
+
+/// A checkpoint's `resume` field, in any format it has had, as today's [`Learned`].
+/// Where the format moves on, the step from the last one goes here.
+fn migrate(resume: &serde_json::Value, config: &TrainConfig) -> Result<Learned, String> {
+    let bad = |e: serde_json::Error| format!("metadata resume state: {e}");
+    match resume.get("format").map(serde_json::Value::as_u64) {
+        None if resume.is_null() => Ok(Learned::unresumable()),
+        None => {
+            let one: FormatOne = serde_json::from_value(resume.clone()).map_err(bad)?;
+            Ok(one.into_learned(config))
+        }
+        Some(Some(Learned::FORMAT)) => {
+            let read: Versioned<Learned> = serde_json::from_value(resume.clone()).map_err(bad)?;
+            Ok(read.learned)
+        }
+        Some(_) => Err(format!(
+            "metadata resume state: format {} is not one this logo-rl reads (1 to {}: a \
+             newer logo-rl wrote it?)",
+            resume["format"],
+            Learned::FORMAT
+        )),
+    }
+}
+
+impl FormatOne {
+    fn into_learned(self, config: &TrainConfig) -> Learned {
+        Learned {
+            iteration: self.iteration,
+            samples: self.samples,
+            improvement: self.improvement,
+            critic_adam: self.critic_adam,
+            // (A schedule without `[guidance]` in the config has nothing to drive.)
+            guidance: self
+                .schedule
+                .filter(|_| config.guidance.is_some())
+                .map(|schedule| GuidanceState {
+                    schedule,
+                    update: self.guidance.unwrap_or_default(),
+                    critic_adam: self.guidance_critic_adam.unwrap_or_default(),
+                    discriminator_adam: self.discriminator_adam,
+                }),
+            sampler: Some(SamplerState {
+                rng: self.sampler_rng,
+                env_points: self.env_points,
+            }),
+        }
+    }
 }
 
 /// The stored config must describe the stored networks (it sizes them before the
@@ -311,7 +343,7 @@ fn read_record(
 fn check_config_against_meta(
     meta: &CheckpointMeta,
     config: &TrainConfig,
-    record: &ResumeRecord,
+    learned: &Learned,
 ) -> Result<(), String> {
     for (what, found, expected) in [
         (
@@ -341,16 +373,31 @@ fn check_config_against_meta(
             ));
         }
     }
-    if meta.iteration != record.iteration as u64 {
+    if meta.iteration != learned.iteration as u64 {
         return Err(format!(
             "the metadata's iteration is {}, its resume state says {}",
-            meta.iteration, record.iteration
+            meta.iteration, learned.iteration
         ));
     }
     Ok(())
 }
 
-impl ResumeRecord {
+impl Learned {
+    /// The format checkpoints are written in; [`migrate`] reads it and every older one.
+    pub const FORMAT: u64 = 2;
+
+    /// A format-1 checkpoint written without its resume state (`null`).
+    fn unresumable() -> Self {
+        Self {
+            iteration: 0,
+            samples: 0,
+            improvement: UpdateState::default(),
+            critic_adam: Vec::new(),
+            guidance: None,
+            sampler: None,
+        }
+    }
+
     /// Values a damaged or hand-edited checkpoint can get wrong, checked against the
     /// config they will run under.
     fn check(&self, config: &TrainConfig) -> Result<(), String> {
@@ -360,12 +407,14 @@ impl ResumeRecord {
                 self.samples, self.iteration
             ));
         }
-        match (&self.schedule, &config.guidance) {
-            (Some(schedule), Some(g)) => schedule
+        match (&self.guidance, &config.guidance) {
+            (Some(learned), Some(g)) => learned
+                .schedule
                 .check(g.schedule().delta)
                 .map_err(|e| format!("resume state schedule: {e}")),
             (None, Some(_)) => Err("resume state: no δ schedule for the guidance step".into()),
-            _ => Ok(()),
+            (Some(_), None) => Err("resume state: a guidance state, but no [guidance]".into()),
+            (None, None) => Ok(()),
         }
     }
 }

@@ -36,7 +36,7 @@ use crate::metrics::IterationMetrics;
 use crate::run_dir::RunDir;
 pub use crate::run_dir::TrainError;
 use learner::{Learner, check_dims};
-pub use learner_state::{EngineSpan, LearnerState, Networks, engine_history};
+pub use learner_state::{EngineSpan, Learned, LearnerState, Networks, engine_history};
 use recorder::Recorder;
 use resources::{Collected, Resources};
 pub use schedule::Schedule;
@@ -87,7 +87,7 @@ impl<E: Engine> Trainer<E> {
         let run = RunDir::open(out_dir)?;
         run.remove_stale_temporaries()?;
         let (config, state) = LearnerState::load(&run.checkpoint_path(), iterations)?;
-        let (iteration, samples) = (state.iteration, state.samples);
+        let (iteration, samples) = (state.learned.iteration, state.learned.samples);
         let factory = config.env.factory()?;
         let mut trainer = Self::assemble(engine, config, run, &factory, state)?;
         // metrics.csv, the clock and the best policy as of the checkpoint.
@@ -120,7 +120,7 @@ impl<E: Engine> Trainer<E> {
         };
         let learner = Learner::from_state(&engine, &config, &state, demos.as_ref())?;
         let mut resources = Resources::build(engine, &config, factory, state.networks)?;
-        if let Some(sampler) = &state.sampler {
+        if let Some(sampler) = &state.learned.sampler {
             resources.collector.restore(sampler).map_err(bad)?;
         }
         Ok(Self {
