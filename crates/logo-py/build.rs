@@ -26,6 +26,7 @@ const FOLDERS: &[&str] = &[
     "logo-ppo-cdq",
     "logo-ppo-penalty",
     "logo-clip-in-trpo",
+    "reference",
 ];
 
 fn main() {

@@ -43,7 +43,7 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
             if !matches!(algo.as_str(), "experiments" | "behaviour" | "templates") {
                 assert_eq!(
                     config.guidance.is_some(),
-                    algo.starts_with("logo") || matches!(algo.as_str(), "gail" | "pofd"),
+                    algo.starts_with("logo") || matches!(algo.as_str(), "gail" | "pofd" | "reference"),
                     "{}",
                     path.display()
                 );
@@ -81,6 +81,37 @@ fn variants_are_configurations_of_the_same_run() {
             }
             assert_eq!(config, logo, "{} differs beyond its kinds", path.display());
         }
+    }
+}
+
+/// `configs/reference/<env>.toml` is `configs/logo/<env>.toml` with the reference code's
+/// F·v and nothing else, and it is the config of the runs its header quotes (the
+/// experiments arm `<env>_reference_fisher.toml`, IDP's `idp_reference_fisher.toml`).
+#[test]
+fn the_reference_configs_are_the_default_with_the_references_fv() {
+    use logo_algo::policy_update::PolicyUpdateConfig;
+    use logo_nn::FisherKind;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+    for env in ENVS {
+        let path = root.join("reference").join(format!("{env}.toml"));
+        let reference = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let arm = match env {
+            "inverted_double_pendulum" => "idp".to_string(),
+            _ => env.to_string(),
+        };
+        let measured = root
+            .join("experiments")
+            .join(format!("{arm}_reference_fisher.toml"));
+        let measured = TrainConfig::load(&measured).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(reference, measured, "{}", path.display());
+        let mut config = reference.clone();
+        let PolicyUpdateConfig::Trpo(trpo) = &mut config.improvement else {
+            panic!("{}: not a TRPO step", path.display());
+        };
+        assert_eq!(trpo.fisher, FisherKind::Reference, "{}", path.display());
+        trpo.fisher = FisherKind::Exact;
+        let logo = TrainConfig::load(&root.join("logo").join(format!("{env}.toml"))).unwrap();
+        assert_eq!(config, logo, "{} differs beyond its F·v", path.display());
     }
 }
 
