@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
+use serde_inline_default::serde_inline_default;
 
 use logo_envs::{EnvConfig, EnvSpec};
 use logo_nn::DiscriminatorInit;
@@ -21,6 +22,9 @@ use crate::validate::{
     MAX_ENVS, MAX_EVAL_EPISODES, MAX_SAMPLES_PER_ITER, check_positive, check_widths,
 };
 
+/// A run's settings: `env`, `iterations` and `samples_per_iter` are required, every other
+/// key has its default beside its field (`docs/config.md` lists them all).
+#[serde_inline_default]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrainConfig {
@@ -41,18 +45,18 @@ pub struct TrainConfig {
     /// fixed number of steps per env copy; such runs cannot be resumed).
     #[serde(default)]
     pub rollout: RolloutMode,
-    #[serde(default = "default_num_envs")]
+    #[serde_inline_default(2)]
     pub num_envs: usize,
-    #[serde(default = "default_threads")]
+    #[serde_inline_default(2)]
     pub threads: usize,
-    #[serde(default = "default_gamma")]
+    #[serde_inline_default(0.99)]
     pub gamma: f64,
-    #[serde(default = "default_gae_lambda")]
+    #[serde_inline_default(0.95)]
     pub gae_lambda: f64,
     /// KL bound δ of the improvement step.
-    #[serde(default = "default_max_kl")]
+    #[serde_inline_default(0.01)]
     pub max_kl: f64,
-    #[serde(default = "default_hidden")]
+    #[serde_inline_default(vec![128, 128])]
     pub policy_hidden: Vec<usize>,
     /// Standardise observations by running statistics of every observation collected
     /// (`logo_nn::observation_norm`), kept with the policy in checkpoints and applied
@@ -74,14 +78,14 @@ pub struct TrainConfig {
     /// as in the reference (docs/results.md, issue 13's CDQ follow-up).
     #[serde(default)]
     pub skip_improvement_without_reward: bool,
-    #[serde(default = "default_one")]
+    #[serde_inline_default(1)]
     pub eval_every: usize,
     /// Each iteration's evaluation plays whole episodes until at least `eval_steps`
     /// steps and at least `eval_episodes` episodes (default 1: the steps alone, as the
     /// reference's 2,048) have been played; the best policy is chosen on it.
-    #[serde(default = "default_eval_steps")]
+    #[serde_inline_default(2048)]
     pub eval_steps: usize,
-    #[serde(default = "default_one")]
+    #[serde_inline_default(1)]
     pub eval_episodes: usize,
     /// When an evaluation episode counts as reaching the goal (see [`SuccessRule`]).
     #[serde(default)]
@@ -100,7 +104,7 @@ pub struct TrainConfig {
     /// changes what the control cost charges. Off by default, as in the reference code.
     #[serde(default)]
     pub clip_actions: bool,
-    #[serde(default = "default_checkpoint_every")]
+    #[serde_inline_default(10)]
     pub checkpoint_every: usize,
     /// Start from this policy: a LOGO reference `.pt` (the reference's `--init-BC`).
     pub init_policy: Option<PathBuf>,
@@ -114,7 +118,7 @@ pub struct TrainConfig {
     /// stored config. A resume goes by the checkpoint's engine history instead
     /// (`logo train --resume`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub dtype: Option<FloatType>,
+    pub dtype: Option<Dtype>,
     /// The improvement step's kind and fields (`[improvement]`, default `kind = "trpo"`).
     #[serde(default)]
     pub improvement: PolicyUpdateConfig,
@@ -196,14 +200,19 @@ pub enum DecaySignal {
     Success,
 }
 
-/// A config's `dtype`.
+/// The networks' float type: a config's `dtype` and the `--dtype` flag.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
-pub enum FloatType {
+pub enum Dtype {
+    /// float64 (the reference implementation's precision)
     F64,
     F32,
 }
 
+/// `[guidance]`: with the guidance step, `delta0`, `alpha` and `warmup` are required
+/// (`validate`); every other key has its default beside its field.
+#[serde_inline_default]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GuidanceConfig {
@@ -216,7 +225,8 @@ pub struct GuidanceConfig {
     /// guidance step, the discriminator's reward reaches the policy through `[reward]`
     /// alone (GAIL, POfD), and `delta0`, `alpha`, `warmup`, `update` and `critic` are not
     /// set.
-    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    #[serde_inline_default(true)]
+    #[serde(skip_serializing_if = "is_true")]
     pub step: bool,
     /// δ_0, α and K_δ (iterations before δ_k may shrink): required with the step.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -233,12 +243,12 @@ pub struct GuidanceConfig {
     pub decay_on: DecaySignal,
     /// Observation dims the discriminator sees (censored setting); default: all.
     pub observe: Option<usize>,
-    #[serde(default = "default_disc_lr")]
+    #[serde_inline_default(3e-4)]
     pub discriminator_lr: f64,
     /// Full-batch Adam steps of the discriminator per iteration (the reference's 1).
-    #[serde(default = "default_one")]
+    #[serde_inline_default(1)]
     pub discriminator_steps: usize,
-    #[serde(default = "default_hidden")]
+    #[serde_inline_default(vec![128, 128])]
     pub discriminator_hidden: Vec<usize>,
     /// The discriminator's output layer at the start: "reference" (×0.1, bias 0: the
     /// LOGO code's, the default) or "uniform" (PyTorch's default init).
@@ -250,27 +260,6 @@ pub struct GuidanceConfig {
     pub critic: Option<CriticConfig>,
 }
 
-fn default_num_envs() -> usize {
-    2
-}
-fn default_threads() -> usize {
-    2
-}
-fn default_gamma() -> f64 {
-    0.99
-}
-fn default_gae_lambda() -> f64 {
-    0.95
-}
-fn default_max_kl() -> f64 {
-    0.01
-}
-fn default_hidden() -> Vec<usize> {
-    vec![128, 128]
-}
-fn default_one() -> usize {
-    1
-}
 /// `eval_initial_states`: where evaluation episodes start.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -282,18 +271,6 @@ pub enum EvalInitialStates {
     Fresh,
 }
 
-fn default_eval_steps() -> usize {
-    2048
-}
-fn default_checkpoint_every() -> usize {
-    10
-}
-fn default_disc_lr() -> f64 {
-    3e-4
-}
-fn yes() -> bool {
-    true
-}
 fn is_true(b: &bool) -> bool {
     *b
 }
@@ -697,7 +674,7 @@ impl TrainConfig {
     /// The config with the choices that default to another table's written out: the
     /// guidance step's `update` and `critic` (`[improvement]`'s and `[critic]`'s) and the
     /// float type (`dtype`, as the engine flags resolved it). It trains as `self` does.
-    pub fn resolved(mut self, dtype: FloatType) -> Self {
+    pub fn resolved(mut self, dtype: Dtype) -> Self {
         self.dtype = Some(dtype);
         if let Some(g) = self.guidance.as_mut().filter(|g| g.step) {
             g.update.get_or_insert_with(|| self.improvement.clone());

@@ -27,27 +27,22 @@ pub enum CriticKind {
     TwinMin,
 }
 
+/// `[critic]` (or `[guidance.critic]`); a key left out takes its value from
+/// [`CriticConfig::default`]: the reference's one 128-128 value net fitted by L-BFGS.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct CriticConfig {
-    #[serde(default)]
     pub kind: CriticKind,
     /// Hidden sizes of each value net (tanh). The reference: 128-128.
-    #[serde(default = "default_hidden")]
     pub hidden: Vec<usize>,
-    #[serde(default)]
     pub fit: CriticFit,
-}
-
-fn default_hidden() -> Vec<usize> {
-    vec![128, 128]
 }
 
 impl Default for CriticConfig {
     fn default() -> Self {
         Self {
             kind: CriticKind::Single,
-            hidden: default_hidden(),
+            hidden: vec![128, 128],
             fit: CriticFit::default(),
         }
     }
@@ -69,72 +64,58 @@ impl Default for CriticFit {
     }
 }
 
+/// A key left out takes its value from [`LbfgsFit::default`]: the reference's 25
+/// iterations with l2 = 1e-3 on the whole batch.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct LbfgsFit {
-    #[serde(default = "default_lbfgs_iterations")]
     pub iterations: usize,
-    #[serde(default = "default_l2")]
     pub l2: f64,
     /// "backtracking" (the default) or "strong-wolfe" (the reference's SciPy L-BFGS-B).
-    #[serde(default)]
     pub line_search: LineSearch,
     /// The fraction of the batch's rows each fit sees, drawn afresh every iteration
     /// without replacement (1, the default: the whole batch, as the reference). A cost
     /// lever: the fit's arithmetic scales with it.
-    #[serde(default = "whole_batch", skip_serializing_if = "is_whole_batch")]
+    #[serde(skip_serializing_if = "is_whole_batch")]
     pub subsample: f64,
 }
 
-fn whole_batch() -> f64 {
-    1.0
-}
 // serde's skip_serializing_if passes a reference.
 fn is_whole_batch(fraction: &f64) -> bool {
     *fraction == 1.0
 }
 
-fn default_lbfgs_iterations() -> usize {
-    25
-}
-fn default_l2() -> f64 {
-    1e-3
-}
-
 impl Default for LbfgsFit {
     fn default() -> Self {
         Self {
-            iterations: default_lbfgs_iterations(),
-            l2: default_l2(),
+            iterations: 25,
+            l2: 1e-3,
             line_search: LineSearch::Backtracking,
-            subsample: whole_batch(),
+            subsample: 1.0,
         }
     }
 }
 
-/// Defaults: the PPO paper's MuJoCo settings (10 epochs, minibatch 64, Adam lr 3e-4),
-/// and the reference's l2.
+/// A key left out takes its value from [`AdamFit::default`]: the PPO paper's MuJoCo
+/// settings (10 epochs, minibatch 64, Adam lr 3e-4), and the reference's l2.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct AdamFit {
-    #[serde(default = "default_adam_epochs")]
     pub epochs: usize,
-    #[serde(default = "default_adam_minibatch")]
     pub minibatch: usize,
-    #[serde(default = "default_adam_lr")]
     pub learning_rate: f64,
-    #[serde(default = "default_l2")]
     pub l2: f64,
 }
 
-fn default_adam_epochs() -> usize {
-    10
-}
-fn default_adam_minibatch() -> usize {
-    64
-}
-fn default_adam_lr() -> f64 {
-    3e-4
+impl Default for AdamFit {
+    fn default() -> Self {
+        Self {
+            epochs: 10,
+            minibatch: 64,
+            learning_rate: 3e-4,
+            l2: LbfgsFit::default().l2,
+        }
+    }
 }
 
 impl CriticConfig {

@@ -133,3 +133,86 @@ fn the_check_sees_a_key_missing_from_the_page() {
     );
     assert!(accepted("unknown_key = 1\n", false).len() > 20);
 }
+
+/// Each row of the section under `## heading`: (key, its default cell with backquotes
+/// removed).
+fn documented_defaults(page: &str, heading: &str) -> Vec<(String, String)> {
+    let start = page
+        .lines()
+        .position(|l| l.strip_prefix("## ") == Some(heading))
+        .unwrap_or_else(|| panic!("docs/config.md has no section `## {heading}`"));
+    page.lines()
+        .skip(start + 1)
+        .take_while(|l| !l.starts_with("## "))
+        .filter(|l| l.starts_with("| `"))
+        .map(|l| {
+            let cells: Vec<&str> = l.split('|').map(str::trim).collect();
+            (
+                cells[1].trim_matches('`').to_string(),
+                cells[3].replace('`', ""),
+            )
+        })
+        .collect()
+}
+
+/// A documented default and the value a config that leaves the key out holds: equal as
+/// TOML values (an integer and a float of the same number are equal).
+fn same_value(documented: &toml::Value, actual: &toml::Value) -> bool {
+    use toml::Value::{Array, Float, Integer};
+    match (documented, actual) {
+        (Integer(a), Float(b)) | (Float(b), Integer(a)) => *a as f64 == *b,
+        (Array(a), Array(b)) => {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| same_value(x, y))
+        }
+        (a, b) => a == b,
+    }
+}
+
+/// The page's default column against the config types' own defaults: every row whose
+/// default is a plain TOML value (a number, a string, a boolean, a list) must be what a
+/// config without that key holds, so the page cannot drift from the one place each
+/// default is set.
+#[test]
+fn every_default_on_the_page_is_the_configs_own() {
+    let page = std::fs::read_to_string(logo_testkit::workspace().join("docs/config.md"))
+        .expect("docs/config.md");
+    let mut compared = 0;
+    for &(heading, extra, tag) in SECTIONS {
+        let guidance = heading == "`[guidance]`";
+        let extra = extra.replace("unknown_key = 1\n", "");
+        let env = if extra.starts_with("[env]") { "" } else { ENV };
+        let text = format!("{BASE}{env}{}{extra}", if guidance { GUIDANCE } else { "" });
+        let Ok(config) = toml::from_str::<TrainConfig>(&text) else {
+            continue; // a table with required keys of its own ([algorithm], [env.sparse])
+        };
+        let stored = toml::Value::try_from(&config).unwrap();
+        // The table the section's keys live in, as the run stores it.
+        let path: Vec<&str> = extra
+            .lines()
+            .rev()
+            .find_map(|l| l.strip_prefix('[')?.strip_suffix(']'))
+            .map(|t| t.split('.').collect())
+            .unwrap_or_default();
+        let path = if guidance { vec!["guidance"] } else { path };
+        let Some(table) = path.iter().try_fold(&stored, |v, key| v.get(key)) else {
+            continue; // not stored when at its defaults ([init], [reward])
+        };
+        for (key, default) in documented_defaults(&page, heading) {
+            let Ok(documented) = toml::from_str::<toml::Table>(&format!("v = {default}")) else {
+                continue; // prose: "required", "none", "see [critic]", …
+            };
+            if Some(key.as_str()) == tag {
+                continue; // the tag chooses the section's kind
+            }
+            let Some(actual) = table.get(&key) else {
+                continue; // left out of stored configs at its default (`subsample`, `step`)
+            };
+            assert!(
+                same_value(&documented["v"], actual),
+                "docs/config.md, {heading} `{key}`: the page says {default}, the config holds {actual}"
+            );
+            compared += 1;
+        }
+    }
+    assert!(compared >= 40, "only {compared} defaults compared");
+}

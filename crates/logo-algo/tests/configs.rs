@@ -5,7 +5,7 @@ use std::path::Path;
 
 use logo_algo::algorithms::configure;
 use logo_algo::critic::CriticFit;
-use logo_algo::{FloatType, TrainConfig};
+use logo_algo::{Dtype, TrainConfig};
 use logo_data::Demonstrations;
 use logo_envs::{EnvFactory, EnvOptions};
 
@@ -43,7 +43,8 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
             if !matches!(algo.as_str(), "experiments" | "behaviour" | "templates") {
                 assert_eq!(
                     config.guidance.is_some(),
-                    algo.starts_with("logo") || matches!(algo.as_str(), "gail" | "pofd" | "reference"),
+                    algo.starts_with("logo")
+                        || matches!(algo.as_str(), "gail" | "pofd" | "reference"),
                     "{}",
                     path.display()
                 );
@@ -125,7 +126,7 @@ fn the_fast_preset_is_the_default_with_its_levers() {
         let path = root.join("logo-fast").join(format!("{env}.toml"));
         let mut fast = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
         // IDP's preset keeps float64, which learned faster there (docs/results.md).
-        let dtype = (env != "inverted_double_pendulum").then_some(FloatType::F32);
+        let dtype = (env != "inverted_double_pendulum").then_some(Dtype::F32);
         assert_eq!(fast.dtype, dtype, "{}", path.display());
         let CriticFit::Lbfgs(fit) = &mut fast.critic.fit else {
             panic!("{}: the preset's critic fit is not L-BFGS", path.display());

@@ -15,25 +15,6 @@ use crate::final_eval;
 use crate::video::{Frames, Video, VideoLook, record_episode};
 use logo_engine::{EngineArgs, WithEngine};
 
-/// How each iteration's steps are laid over the threads (the numbers are the same).
-#[derive(Clone, Copy, Debug, Default, ValueEnum)]
-pub enum ScheduleArg {
-    /// One step after another.
-    Sequential,
-    /// Critic fits beside the policy steps, the next batch's sampling and the evaluation.
-    #[default]
-    Pipelined,
-}
-
-impl From<ScheduleArg> for Schedule {
-    fn from(arg: ScheduleArg) -> Self {
-        match arg {
-            ScheduleArg::Sequential => Schedule::Sequential,
-            ScheduleArg::Pipelined => Schedule::Pipelined,
-        }
-    }
-}
-
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum StopMetric {
     Eval,
@@ -77,8 +58,8 @@ pub struct TrainArgs {
     threads: Option<usize>,
     /// How each iteration's steps are laid over the threads; either gives the same
     /// metrics and checkpoints.
-    #[arg(long, value_enum, default_value_t = ScheduleArg::Pipelined)]
-    schedule: ScheduleArg,
+    #[arg(long, value_enum, default_value_t = Schedule::Pipelined)]
+    schedule: Schedule,
     /// Every N iterations, a video of the mean-action policy (one episode of the dense
     /// evaluation env from the evaluation's first initial state, 480×480) into
     /// DIR/videos/iteration-<k>.mp4. It uses its own env and no random stream: the run's
@@ -136,7 +117,7 @@ impl Console for Stdout {
 }
 
 /// `runs/<config name>-seed<seed>`: where a new run goes unless told otherwise.
-pub fn default_out(config_path: &Path, seed: u64) -> PathBuf {
+pub fn run_dir_for_config(config_path: &Path, seed: u64) -> PathBuf {
     let name = config_path
         .file_stem()
         .map_or("run".into(), |s| s.to_string_lossy().into_owned());
@@ -176,18 +157,19 @@ pub fn run(args: &TrainArgs) -> Result<()> {
                 .check_eval_env_dims()
                 .map_err(|e| anyhow::anyhow!("{}: {e}", config_path.display()))?;
             if args.print_config {
-                let dtype = args.engine.for_config(&config).dtype().into();
+                let dtype = args.engine.for_config(&config).dtype();
                 print!("{}", config.resolved(dtype).to_toml()?);
                 return Ok(());
             }
-            let out = (args.out.clone()).unwrap_or_else(|| default_out(config_path, config.seed));
+            let out =
+                (args.out.clone()).unwrap_or_else(|| run_dir_for_config(config_path, config.seed));
             Start::New(Box::new(config), out)
         }
     };
     let job = Job {
         start,
         stop: args.stop_at_return.map(|r| (r, args.stop_metric)),
-        schedule: args.schedule.into(),
+        schedule: args.schedule,
         tensorboard: !args.no_tensorboard,
         video_every: args.video_every,
     };
@@ -216,7 +198,7 @@ pub fn run_job(mut job: Job, engine: &EngineArgs, console: &mut dyn Console) -> 
             // --dtype flag wins over it), so a run made from it again trains the same way.
             // `for_config` gave the engine a dtype wherever the config names one.
             if config.dtype.is_some() {
-                config.dtype = engine.dtype.map(Into::into);
+                config.dtype = engine.dtype;
             }
             engine
         }

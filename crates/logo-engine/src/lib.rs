@@ -4,7 +4,8 @@
 
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
-use logo_algo::{FloatType, TrainConfig};
+pub use logo_algo::Dtype;
+use logo_algo::TrainConfig;
 use logo_nn::{BurnEngine, Engine, Kernels};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -13,31 +14,6 @@ pub enum EngineKind {
     Kernels,
     /// burn tensor ops on `--backend`.
     Burn,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Dtype {
-    /// float64 (the reference implementation's precision)
-    F64,
-    F32,
-}
-
-impl From<FloatType> for Dtype {
-    fn from(dtype: FloatType) -> Self {
-        match dtype {
-            FloatType::F64 => Dtype::F64,
-            FloatType::F32 => Dtype::F32,
-        }
-    }
-}
-
-impl From<Dtype> for FloatType {
-    fn from(dtype: Dtype) -> Self {
-        match dtype {
-            Dtype::F64 => FloatType::F64,
-            Dtype::F32 => FloatType::F32,
-        }
-    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -91,7 +67,7 @@ impl EngineArgs {
     /// These flags for a new run of `config`: its `dtype` where no `--dtype` was given.
     pub fn for_config(&self, config: &TrainConfig) -> Self {
         Self {
-            dtype: self.dtype.or(config.dtype.map(Dtype::from)),
+            dtype: self.dtype.or(config.dtype),
             ..self.clone()
         }
     }

@@ -49,8 +49,8 @@ pub use mujoco_env::{BeforeStep, Data, MujocoEnv, ResetNoise, Task, models_dir};
 pub use pusher::Pusher;
 pub use reacher::Reacher;
 pub use registry::{
-    BASE_ENV_IDS, EnvFactory, EnvOptions, all_env_ids, canonical_id, default_max_episode_steps,
-    dense_id, make, sparse_id,
+    BASE_ENV_IDS, EnvFactory, EnvOptions, all_env_ids, canonical_id, dense_id, make, sparse_id,
+    time_limit,
 };
 pub use sparse::{SPARSE_KINDS, SparseReward, SparseRule};
 pub use swimmer::Swimmer;

@@ -375,7 +375,7 @@ impl EnvFactory {
 
 /// The time limit Gymnasium registers `id`'s task with (1000; Reacher 50, Pusher 100),
 /// without loading its model; an error for an unknown id.
-pub fn default_max_episode_steps(id: &str) -> Result<usize, EnvError> {
+pub fn time_limit(id: &str) -> Result<usize, EnvError> {
     let (kind, version, _) = parse_id(id)?;
     Ok(kind.task(version).max_episode_steps())
 }

@@ -17,8 +17,8 @@ pub fn env_ids() -> Vec<String> {
 /// The time limit Gymnasium registers an id's task with (1000; Reacher 50, Pusher 100),
 /// without loading its model.
 #[pyfunction]
-pub fn default_max_episode_steps(id: &str) -> PyResult<usize> {
-    logo_envs::default_max_episode_steps(id).map_err(env_error)
+pub fn time_limit(id: &str) -> PyResult<usize> {
+    logo_envs::time_limit(id).map_err(env_error)
 }
 
 /// The factory of a Rust env for Python. A `python:` id names an env a training run

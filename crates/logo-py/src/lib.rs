@@ -22,11 +22,11 @@ fn _logo_rl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<policy::Policy>()?;
     m.add_class::<vector::RustVecEnv>()?;
     m.add_function(wrap_pyfunction!(env::env_ids, m)?)?;
-    m.add_function(wrap_pyfunction!(env::default_max_episode_steps, m)?)?;
+    m.add_function(wrap_pyfunction!(env::time_limit, m)?)?;
     m.add_function(wrap_pyfunction!(train::train, m)?)?;
     m.add_function(wrap_pyfunction!(train::bc, m)?)?;
     m.add_function(wrap_pyfunction!(train::configure, m)?)?;
-    m.add_function(wrap_pyfunction!(train::default_run_dir, m)?)?;
+    m.add_function(wrap_pyfunction!(train::run_dir_for, m)?)?;
     m.add_function(wrap_pyfunction!(minari::write_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(minari::read_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(presets::presets, m)?)?;

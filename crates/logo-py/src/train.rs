@@ -9,7 +9,7 @@ use logo_algo::bc::{InitConfig, InitKind};
 use logo_algo::episode::SuccessRule;
 use logo_algo::{Schedule, TrainConfig};
 use logo_cli::bc::BcJob;
-use logo_cli::train::{Console, Job, Start, default_out, run_job};
+use logo_cli::train::{Console, Job, Start, run_dir_for_config, run_job};
 use logo_engine::{BackendKind, Dtype, EngineArgs, EngineKind};
 use logo_envs::{EnvConfig, EnvMaker, EnvSpec};
 use pyo3::exceptions::PyValueError;
@@ -157,7 +157,7 @@ pub fn train(
         None => {
             let name = config.clone();
             let config = self::config(config, table_json, base)?;
-            let out = out.unwrap_or_else(|| default_run_dir(name, config.seed));
+            let out = out.unwrap_or_else(|| run_dir_for(name, config.seed));
             Start::New(Box::new(config), out)
         }
     };
@@ -181,8 +181,8 @@ pub fn train(
 /// for Python too (the list-of-trajectories demos are written into it before training).
 #[pyfunction]
 #[pyo3(signature = (config, seed))]
-pub fn default_run_dir(config: Option<PathBuf>, seed: u64) -> PathBuf {
-    default_out(config.as_deref().unwrap_or("run".as_ref()), seed)
+pub fn run_dir_for(config: Option<PathBuf>, seed: u64) -> PathBuf {
+    run_dir_for_config(config.as_deref().unwrap_or("run".as_ref()), seed)
 }
 
 /// A Python env's registration, dropped when the call ends whichever way it ends.

@@ -18,52 +18,28 @@ use super::stats::{UpdateState, UpdateStats};
 use crate::adam::AdamEpochs;
 use crate::validate::{MAX_SAMPLES_PER_ITER, check_clip, check_count, check_positive};
 
+/// A key left out takes its value from [`PpoClipConfig::default`] (the module's doc).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct PpoClipConfig {
-    #[serde(default = "default_epsilon")]
     pub clip_epsilon: f64,
     /// λ: stop once the KL exceeds λ·δ.
-    #[serde(default = "default_kl_stop")]
     pub kl_stop: f64,
-    #[serde(default = "default_epochs")]
     pub epochs: usize,
-    #[serde(default = "default_minibatch")]
     pub minibatch: usize,
-    #[serde(default = "default_learning_rate")]
     pub learning_rate: f64,
-    #[serde(default = "default_max_grad_norm")]
     pub max_grad_norm: f64,
-}
-
-pub(super) fn default_epsilon() -> f64 {
-    0.2
-}
-fn default_kl_stop() -> f64 {
-    1.5
-}
-pub(super) fn default_epochs() -> usize {
-    10
-}
-pub(super) fn default_minibatch() -> usize {
-    64
-}
-pub(super) fn default_learning_rate() -> f64 {
-    3e-4
-}
-pub(super) fn default_max_grad_norm() -> f64 {
-    0.5
 }
 
 impl Default for PpoClipConfig {
     fn default() -> Self {
         Self {
-            clip_epsilon: default_epsilon(),
-            kl_stop: default_kl_stop(),
-            epochs: default_epochs(),
-            minibatch: default_minibatch(),
-            learning_rate: default_learning_rate(),
-            max_grad_norm: default_max_grad_norm(),
+            clip_epsilon: 0.2,
+            kl_stop: 1.5,
+            epochs: 10,
+            minibatch: 64,
+            learning_rate: 3e-4,
+            max_grad_norm: 0.5,
         }
     }
 }

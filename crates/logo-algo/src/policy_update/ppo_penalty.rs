@@ -14,59 +14,38 @@ use serde::{Deserialize, Serialize};
 
 use super::first_order::{Ascent, minibatch_ascent};
 use super::objective::{StepBatch, Surrogate};
-use super::ppo_clip::{
-    check_counts, default_epochs, default_learning_rate, default_max_grad_norm, default_minibatch,
-};
+use super::ppo_clip::{PpoClipConfig, check_counts};
 use super::stats::{UpdateState, UpdateStats};
 use crate::adam::AdamEpochs;
 use crate::validate::check_positive;
 
+/// A key left out takes its value from [`PpoPenaltyConfig::default`] (the module's doc).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct PpoPenaltyConfig {
-    #[serde(default = "default_beta")]
     pub beta_init: f64,
     /// α: the factor β is multiplied or divided by.
-    #[serde(default = "default_beta_factor")]
     pub beta_factor: f64,
-    #[serde(default = "default_kl_high")]
     pub kl_high: f64,
-    #[serde(default = "default_kl_low")]
     pub kl_low: f64,
-    #[serde(default = "default_epochs")]
     pub epochs: usize,
-    #[serde(default = "default_minibatch")]
     pub minibatch: usize,
-    #[serde(default = "default_learning_rate")]
     pub learning_rate: f64,
-    #[serde(default = "default_max_grad_norm")]
     pub max_grad_norm: f64,
-}
-
-fn default_beta() -> f64 {
-    1.0
-}
-fn default_beta_factor() -> f64 {
-    2.0
-}
-fn default_kl_high() -> f64 {
-    1.5
-}
-fn default_kl_low() -> f64 {
-    1.0 / 1.5
 }
 
 impl Default for PpoPenaltyConfig {
     fn default() -> Self {
+        let first_order = PpoClipConfig::default();
         Self {
-            beta_init: default_beta(),
-            beta_factor: default_beta_factor(),
-            kl_high: default_kl_high(),
-            kl_low: default_kl_low(),
-            epochs: default_epochs(),
-            minibatch: default_minibatch(),
-            learning_rate: default_learning_rate(),
-            max_grad_norm: default_max_grad_norm(),
+            beta_init: 1.0,
+            beta_factor: 2.0,
+            kl_high: 1.5,
+            kl_low: 1.0 / 1.5,
+            epochs: first_order.epochs,
+            minibatch: first_order.minibatch,
+            learning_rate: first_order.learning_rate,
+            max_grad_norm: first_order.max_grad_norm,
         }
     }
 }

@@ -11,61 +11,41 @@ use super::objective::{Anchor, StepBatch, Surrogate, anchor, evaluate, gradient}
 use super::stats::{StopReason, UpdateStats};
 use crate::validate::{check_clip, check_count, check_fraction, check_positive};
 
+/// `[improvement]` (or `[guidance.update]`) with `kind = "trpo"`, `"npg"` or
+/// `"clip-in-trpo"`; a key left out takes its value from [`TrpoConfig::default`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct TrpoConfig {
     /// Added to F (times v). The reference: 0.01.
-    #[serde(default = "default_damping")]
     pub damping: f64,
-    #[serde(default = "default_cg_iters")]
     pub cg_iters: usize,
-    #[serde(default = "default_backtracks")]
     pub backtracks: usize,
-    #[serde(default = "default_accept_ratio")]
     pub accept_ratio: f64,
     /// Also require the measured KL to be at most `kl_limit`·δ before accepting a step
     /// (backtracking further otherwise). Off by default: the reference's line search checks
     /// only the improvement, and its guidance steps often overshoot δ_k.
-    #[serde(default)]
     pub kl_limit: Option<f64>,
     /// F·v on this fraction of the batch (rows spread evenly over it, see
     /// [`fisher_rows`]) instead of all of it: a cheaper, approximate curvature for the
     /// conjugate gradient and the step size. 1 (the default) is exact, as the reference.
-    #[serde(default = "default_fisher_fraction")]
     pub fisher_fraction: f64,
     /// The operator F·v computes: "exact" (the default) or "reference" (LOGO's code).
-    #[serde(default)]
     pub fisher: FisherKind,
     /// `clip-in-trpo` only: ε of the clipped surrogate (default 0.2).
-    #[serde(default)]
     pub clip_epsilon: Option<f64>,
 }
 
-fn default_damping() -> f64 {
-    0.01
-}
-fn default_cg_iters() -> usize {
-    10
-}
-fn default_backtracks() -> usize {
-    10
-}
-fn default_accept_ratio() -> f64 {
-    0.1
-}
-fn default_fisher_fraction() -> f64 {
-    1.0
-}
-
+/// The reference's values (docs/reference.md): CG 10 iterations with damping 0.01,
+/// backtracking over 0.5^i for i < 10, accepted at actual / expected > 0.1.
 impl Default for TrpoConfig {
     fn default() -> Self {
         Self {
-            damping: default_damping(),
-            cg_iters: default_cg_iters(),
-            backtracks: default_backtracks(),
-            accept_ratio: default_accept_ratio(),
+            damping: 0.01,
+            cg_iters: 10,
+            backtracks: 10,
+            accept_ratio: 0.1,
             kl_limit: None,
-            fisher_fraction: default_fisher_fraction(),
+            fisher_fraction: 1.0,
             fisher: FisherKind::Exact,
             clip_epsilon: None,
         }

@@ -5,14 +5,22 @@
 /// step computes the same numbers: a run's metrics and checkpoints are bit-identical
 /// under both (tested).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Schedule {
     /// One step after another, in Algorithm 1's order.
+    #[cfg_attr(feature = "clap", value(help = "One step after another"))]
     Sequential,
     /// The critic fits of iteration k (step 7) beside its policy steps and discriminator
     /// update (4-6), then beside the sampling of batch k+1 and the evaluation of π_{k+1}:
     /// nothing among those reads the fitted critics, which iteration k+1's advantages
     /// need first.
     #[default]
+    #[cfg_attr(
+        feature = "clap",
+        value(
+            help = "Critic fits beside the policy steps, the next batch's sampling and the evaluation"
+        )
+    )]
     Pipelined,
 }
 

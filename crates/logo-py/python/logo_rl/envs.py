@@ -8,7 +8,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from ._logo_rl import RustEnv, default_max_episode_steps, env_ids
+from ._logo_rl import RustEnv, time_limit, env_ids
 
 NAMESPACE = "logo_rl"
 DEFAULT_SIZE = 480  # Gymnasium's MuJoCo frames
@@ -129,7 +129,7 @@ def register_envs() -> list[str]:
                 id=name,
                 entry_point="logo_rl.envs:LogoEnv",
                 kwargs={"env_id": env_id, "max_episode_steps": None},
-                max_episode_steps=default_max_episode_steps(env_id),
+                max_episode_steps=time_limit(env_id),
             )
         names.append(name)
     return names

@@ -190,7 +190,7 @@ def train(
         ):
             table["checkpoint_every"] = 1
         if demos is not None:
-            run_dir = Path(out) if out is not None else _default_out(config, table)
+            run_dir = Path(out) if out is not None else _run_dir_for(config, table)
             where = demos_path(demos, run_dir, spec["obs_dim"], spec["act_dim"])
             table = _lay_over(table, {"guidance": {"demos": where}})
     elif demos is not None:
@@ -272,14 +272,14 @@ def _saved_env_id(run: Path) -> str | None:
     return env if isinstance(env, str) and env.startswith(PREFIX) else None
 
 
-def _default_out(config, table: Mapping[str, Any]) -> Path:
+def _run_dir_for(config, table: Mapping[str, Any]) -> Path:
     """`logo train`'s default folder, runs/<config name>-seed<seed>."""
     if isinstance(config, Mapping):
         path, seed = None, table.get("seed", config.get("seed", 0))
     else:
         path = os.fspath(config)
         seed = table.get("seed", tomllib.loads(Path(config).read_text()).get("seed", 0))
-    return Path(_logo_rl.default_run_dir(path, int(seed)))
+    return Path(_logo_rl.run_dir_for(path, int(seed)))
 
 
 def _lay_over(under: dict, top: Mapping) -> dict:
