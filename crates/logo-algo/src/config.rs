@@ -275,16 +275,62 @@ fn is_true(b: &bool) -> bool {
     *b
 }
 
+/// A config that cannot be used: which file (or `<config dict>`), what kind of mistake,
+/// and the message naming the key.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {message}", path.display())]
 pub struct ConfigError {
     pub path: PathBuf,
+    pub kind: ConfigErrorKind,
     pub message: String,
 }
 
-/// A TOML error on one line.
-fn one_line(e: &toml::de::Error) -> String {
-    e.to_string().trim_end().replace('\n', " ")
+/// What kind of mistake a [`ConfigError`] is, for callers that act on it: the Python
+/// package raises `FileNotFoundError`, `TypeError` or `ValueError` by it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConfigErrorKind {
+    /// The config file is not there.
+    NotFound,
+    /// It is there but could not be read (permissions, not UTF-8).
+    Unreadable,
+    /// A value of the wrong type for its key.
+    Type,
+    /// Anything else: not TOML, an unknown or missing key, a value out of its range.
+    Value,
+}
+
+impl ConfigError {
+    fn new(path: &Path, kind: ConfigErrorKind, message: String) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            kind,
+            message,
+        }
+    }
+
+    /// A file that could not be read.
+    fn reading(path: &Path, e: &std::io::Error) -> Self {
+        let kind = match e.kind() {
+            std::io::ErrorKind::NotFound => ConfigErrorKind::NotFound,
+            _ => ConfigErrorKind::Unreadable,
+        };
+        Self::new(path, kind, e.to_string())
+    }
+
+    /// TOML's or serde's error on one line, of the kind its words say.
+    fn toml(path: &Path, e: &toml::de::Error) -> Self {
+        let message = e.to_string().trim_end().replace('\n', " ");
+        let kind = match message.contains("invalid type") {
+            true => ConfigErrorKind::Type,
+            false => ConfigErrorKind::Value,
+        };
+        Self::new(path, kind, message)
+    }
+
+    /// A value the checks refuse.
+    fn value(path: &Path, message: String) -> Self {
+        Self::new(path, ConfigErrorKind::Value, message)
+    }
 }
 
 /// Lays `top` over `under`: tables merge key by key, any other value replaces.
@@ -319,16 +365,13 @@ impl TrainConfig {
         overrides: toml::Table,
         removed: &[&str],
     ) -> Result<Self, ConfigError> {
-        let err = |message: String| ConfigError {
-            path: path.to_path_buf(),
-            message,
-        };
-        let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+        let text = std::fs::read_to_string(path).map_err(|e| ConfigError::reading(path, &e))?;
         let base = path.parent().unwrap_or(Path::new("."));
         if overrides.is_empty() && removed.is_empty() {
             return Self::parse(&text, path, base);
         }
-        let mut table: toml::Table = toml::from_str(&text).map_err(|e| err(one_line(&e)))?;
+        let mut table: toml::Table =
+            toml::from_str(&text).map_err(|e| ConfigError::toml(path, &e))?;
         for key in removed {
             table.remove(*key);
         }
@@ -340,27 +383,23 @@ impl TrainConfig {
     /// relative paths inside are taken from `base`.
     pub fn from_table(table: toml::Table, origin: &Path, base: &Path) -> Result<Self, ConfigError> {
         // Through the text, so that errors read as they do for a file.
-        let text = toml::to_string(&table).map_err(|e| ConfigError {
-            path: origin.to_path_buf(),
-            message: e.to_string(),
-        })?;
+        let text = toml::to_string(&table)
+            .map_err(|e| ConfigError::new(origin, ConfigErrorKind::Type, e.to_string()))?;
         Self::parse(&text, origin, base)
     }
 
     fn parse(text: &str, path: &Path, base: &Path) -> Result<Self, ConfigError> {
-        let err = |message: String| ConfigError {
-            path: path.to_path_buf(),
-            message,
-        };
-        let table: toml::Table = toml::from_str(text).map_err(|e| err(one_line(&e)))?;
+        let toml_error = |e: toml::de::Error| ConfigError::toml(path, &e);
+        let table: toml::Table = toml::from_str(text).map_err(toml_error)?;
         let mut config: TrainConfig = match table.contains_key("algorithm") {
             // `[algorithm] name`: the preset's keys under the config's own.
             true => {
-                let expanded = presets::expand(table, lay_over).map_err(err)?;
-                TrainConfig::deserialize(expanded).map_err(|e| err(one_line(&e)))?
+                let expanded =
+                    presets::expand(table, lay_over).map_err(|e| ConfigError::value(path, e))?;
+                TrainConfig::deserialize(expanded).map_err(toml_error)?
             }
             // Read from the text, so that an error points at its line.
-            false => toml::from_str(text).map_err(|e| err(one_line(&e)))?,
+            false => toml::from_str(text).map_err(toml_error)?,
         };
         // Absolute (and without `..` where the file exists), so that the copy saved with a
         // run (config.toml, the checkpoint's metadata) still points at the same files when
@@ -382,7 +421,7 @@ impl TrainConfig {
             g.demos.as_mut().map(resolve);
             g.behaviour_policy.as_mut().map(resolve);
         }
-        config.validate().map_err(err)?;
+        config.validate().map_err(|e| ConfigError::value(path, e))?;
         Ok(config)
     }
 

@@ -42,6 +42,6 @@ pub mod tensorboard;
 pub mod trainer;
 pub mod validate;
 
-pub use config::{ConfigError, Dtype, EvalInitialStates, TrainConfig};
+pub use config::{ConfigError, ConfigErrorKind, Dtype, EvalInitialStates, TrainConfig};
 pub use metrics::IterationMetrics;
 pub use trainer::{EngineSpan, Learned, LearnerState, Schedule, Trainer, engine_history};

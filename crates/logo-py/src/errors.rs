@@ -1,8 +1,11 @@
 //! The Python exception of the Rust side's errors.
 
+use logo_algo::{ConfigError, ConfigErrorKind};
+use logo_envs::EnvError;
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
+use pyo3::types::PyType;
 
 create_exception!(
     _logo_rl,
@@ -11,7 +14,75 @@ create_exception!(
     "An error of logo-rl's Rust side (a config, a checkpoint, an env), on one line."
 );
 
-/// anyhow's chain on one line, as `logo` prints it.
+/// Which subclass of LogoError an error is raised as (`logo_rl/_errors.py`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Kind {
+    /// `LogoFileNotFoundError`, also a `FileNotFoundError`.
+    NotFound,
+    /// `LogoTypeError`, also a `TypeError`.
+    Type,
+    /// `LogoValueError`, also a `ValueError`.
+    Value,
+    /// `LogoError` itself.
+    Other,
+}
+
+impl Kind {
+    fn of_config(kind: ConfigErrorKind) -> Self {
+        match kind {
+            ConfigErrorKind::NotFound => Self::NotFound,
+            ConfigErrorKind::Type => Self::Type,
+            ConfigErrorKind::Value => Self::Value,
+            ConfigErrorKind::Unreadable => Self::Other,
+        }
+    }
+
+    /// The kind of the first error in a chain that says one: a missing file, a config's
+    /// mistake, an env's.
+    fn of_chain<'a>(chain: impl Iterator<Item = &'a (dyn std::error::Error + 'static)>) -> Self {
+        for cause in chain {
+            if let Some(e) = cause.downcast_ref::<std::io::Error>() {
+                if e.kind() == std::io::ErrorKind::NotFound {
+                    return Self::NotFound;
+                }
+            } else if let Some(e) = cause.downcast_ref::<ConfigError>() {
+                return Self::of_config(e.kind);
+            } else if cause.downcast_ref::<EnvError>().is_some() {
+                return Self::Value;
+            }
+        }
+        Self::Other
+    }
+}
+
+/// `message` raised as the LogoError subclass of `kind`.
+pub(crate) fn raised(kind: Kind, message: String) -> PyErr {
+    let class = match kind {
+        Kind::NotFound => "LogoFileNotFoundError",
+        Kind::Type => "LogoTypeError",
+        Kind::Value => "LogoValueError",
+        Kind::Other => return LogoError::new_err(message),
+    };
+    Python::attach(|py| {
+        let class = py
+            .import("logo_rl._errors")
+            .and_then(|m| m.getattr(class))
+            .and_then(|c| c.cast_into::<PyType>().map_err(PyErr::from));
+        match class {
+            Ok(class) => PyErr::from_type(class, message),
+            // Imported without the package around it: the base class still says it.
+            Err(_) => LogoError::new_err(message),
+        }
+    })
+}
+
+/// A config that cannot be used, raised by its kind.
+pub(crate) fn config_error(e: &ConfigError, message: String) -> PyErr {
+    raised(Kind::of_config(e.kind), message)
+}
+
+/// anyhow's chain on one line, as `logo` prints it, raised by the kind of its first
+/// cause that says one.
 pub(crate) fn logo_error(e: &anyhow::Error) -> PyErr {
     let mut line = e.to_string();
     for cause in e.chain().skip(1) {
@@ -20,12 +91,12 @@ pub(crate) fn logo_error(e: &anyhow::Error) -> PyErr {
             line = format!("{line}: {text}");
         }
     }
-    LogoError::new_err(in_python_words(&line))
+    raised(Kind::of_chain(e.chain()), in_python_words(&line))
 }
 
-/// An error of the Rust envs (an unknown id, a non-finite action) as a LogoError.
+/// An error of the Rust envs (an unknown id, a non-finite action) as a LogoValueError.
 pub(crate) fn env_error(e: impl std::fmt::Display) -> PyErr {
-    LogoError::new_err(e.to_string())
+    raised(Kind::Value, e.to_string())
 }
 
 /// `logo train`'s flags and the keyword arguments of `logo_rl.train` that say the same.

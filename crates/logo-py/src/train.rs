@@ -15,7 +15,7 @@ use logo_envs::{EnvConfig, EnvMaker, EnvSpec};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::logo_error;
+use crate::errors::{config_error, logo_error};
 use crate::python_env::{PyEnvMaker, Raised};
 
 /// Lines go to `say` (a Python callable). Python's pending signals are checked after each
@@ -91,29 +91,29 @@ fn config(path: Option<PathBuf>, table_json: &str, base: PathBuf) -> PyResult<Tr
         .ok_or_else(|| {
             PyValueError::new_err("config keys: a TOML table (no None values) was expected")
         })?;
-    let loaded = match &path {
+    match &path {
         Some(path) => TrainConfig::load_edited(path, table.clone(), &removed).map_err(|e| {
             // Where the file alone is a good config, the call's keyword arguments are what
             // is wrong: say so, rather than blame the file.
             if (table.is_empty() && removed.is_empty()) || TrainConfig::load(path).is_err() {
-                return e.to_string();
+                return config_error(&e, e.to_string());
             }
             let keys: Vec<&str> = table
                 .keys()
                 .map(String::as_str)
                 .chain(removed.iter().copied())
                 .collect();
-            format!(
+            let message = format!(
                 "the keyword arguments ({}) laid over {}: {}",
                 keys.join(", "),
                 path.display(),
                 e.message
-            )
+            );
+            config_error(&e, message)
         }),
         None => TrainConfig::from_table(table, &PathBuf::from("<config dict>"), &base)
-            .map_err(|e| e.to_string()),
-    };
-    loaded.map_err(crate::errors::LogoError::new_err)
+            .map_err(|e| config_error(&e, e.to_string())),
+    }
 }
 
 /// Runs `logo train` in this process, with the GIL released, and returns the run folder.

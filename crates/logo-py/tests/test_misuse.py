@@ -77,3 +77,34 @@ def test_errors_from_python_name_keyword_arguments_not_flags(tmp_path):
     message = str(raised.value)
     assert "resume=" in message and "out=" in message, message
     assert "--resume" not in message and "--out" not in message, message
+
+
+def test_errors_are_typed_python_exceptions_under_logo_error(tmp_path):
+    """Each kind of mistake is the exception Python code raises for it, and a LogoError."""
+    cases = [
+        # A config file that is not there.
+        (FileNotFoundError, logo_rl.LogoFileNotFoundError, "nothing.toml",
+         lambda: logo_rl.train(tmp_path / "nothing.toml", progress=False)),
+        # A value of the wrong type for its key.
+        (TypeError, logo_rl.LogoTypeError, "invalid type",
+         lambda: logo_rl.train("trpo/inverted_double_pendulum", out=tmp_path / "a",
+                               **{**short(), "samples_per_iter": "many"})),
+        # A value out of its range, and a key that does not exist.
+        (ValueError, logo_rl.LogoValueError, "gamma",
+         lambda: logo_rl.train("trpo/inverted_double_pendulum", out=tmp_path / "b",
+                               **{**short(), "gamma": 2.0})),
+        (ValueError, logo_rl.LogoValueError, "no_such_key",
+         lambda: logo_rl.train("trpo/inverted_double_pendulum", out=tmp_path / "c",
+                               **{**short(), "no_such_key": 1})),
+        # A checkpoint that is not there, and an env id that does not exist.
+        (FileNotFoundError, logo_rl.LogoFileNotFoundError, "missing.safetensors",
+         lambda: logo_rl.load(tmp_path / "missing.safetensors")),
+        (ValueError, logo_rl.LogoValueError, "unknown environment id",
+         lambda: logo_rl.LogoEnv("Hopper-v9")),
+    ]
+    for python_kind, logo_kind, words, call in cases:
+        with pytest.raises(python_kind, match=words) as raised:
+            call()
+        assert isinstance(raised.value, logo_rl.LogoError), (words, type(raised.value))
+        assert type(raised.value) is logo_kind, (words, type(raised.value))
+    assert not any((tmp_path / name).exists() for name in "abc")

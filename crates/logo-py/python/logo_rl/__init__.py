@@ -58,6 +58,7 @@ def _load_mujoco() -> None:
 _load_mujoco()
 
 from ._logo_rl import MUJOCO_VERSION, LogoError, __version__, env_ids  # noqa: E402
+from ._errors import LogoFileNotFoundError, LogoTypeError, LogoValueError  # noqa: E402
 from .bc import Cloned, bc  # noqa: E402
 from .compare import compare  # noqa: E402
 from .envs import LogoEnv, register_envs  # noqa: E402
@@ -75,6 +76,9 @@ __all__ = [
     "Dataset",
     "LogoEnv",
     "LogoError",
+    "LogoFileNotFoundError",
+    "LogoTypeError",
+    "LogoValueError",
     "LogoVectorEnv",
     "MUJOCO_VERSION",
     "Policy",
