@@ -1,5 +1,8 @@
-//! The wheel's extension finds MuJoCo in the `mujoco` wheel it depends on:
-//! site-packages/logo_rl/_logo_rl.abi3.so → site-packages/mujoco/libmujoco.so.3.17.0.
+//! The extension's MuJoCo is the `mujoco` wheel's libmujoco.so.3.17.0, which
+//! `logo_rl/__init__.py` loads before it. The rpath below
+//! (site-packages/logo_rl/ → site-packages/mujoco/) also finds it for a build installed
+//! from source; the distribution wheel drops both it and the library's name from its link
+//! table (scripts/unlink_mujoco.py).
 //!
 //! It also carries the repository's training configs as presets, with the demonstration
 //! datasets they name, so that `logo_rl.train("new-task", ...)` needs no repository: this

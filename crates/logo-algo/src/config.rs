@@ -320,7 +320,8 @@ impl ConfigError {
     /// TOML's or serde's error on one line, of the kind its words say.
     fn toml(path: &Path, e: &toml::de::Error) -> Self {
         let message = e.to_string().trim_end().replace('\n', " ");
-        let kind = match message.contains("invalid type") {
+        // serde's own words, not the quoted line of the file (which could hold anything).
+        let kind = match e.message().starts_with("invalid type") {
             true => ConfigErrorKind::Type,
             false => ConfigErrorKind::Value,
         };

@@ -381,3 +381,28 @@ fn a_preset_that_cannot_go_with_the_config_is_refused_naming_it() {
     assert_eq!(again.algorithm(), "DAPG (no behaviour cloning)");
     assert!(again.preset.is_none());
 }
+
+/// A config's error says its kind by the mistake, not by the words on the file's line: a
+/// missing file, a value of the wrong type, an unknown key (whose line may read anything).
+#[test]
+fn a_config_errors_kind_is_the_mistakes() {
+    use logo_algo::ConfigErrorKind;
+    let dir = std::env::temp_dir().join(format!("logo-config-kinds-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = "env = \"SparseHopper-v4\"\niterations = 1\nsamples_per_iter = 1000\n";
+    let kind = |name: &str, text: Option<&str>| {
+        let path = dir.join(name);
+        if let Some(text) = text {
+            std::fs::write(&path, text).unwrap();
+        }
+        TrainConfig::load(&path).unwrap_err().kind
+    };
+    assert_eq!(kind("missing.toml", None), ConfigErrorKind::NotFound);
+    let wrong_type = base.replace("iterations = 1", "iterations = \"many\"");
+    assert_eq!(kind("type.toml", Some(&wrong_type)), ConfigErrorKind::Type);
+    let unknown = format!("{base}no_such_key = \"an invalid type\"\n");
+    assert_eq!(kind("unknown.toml", Some(&unknown)), ConfigErrorKind::Value);
+    let range = format!("{base}gamma = 2.0\n");
+    assert_eq!(kind("range.toml", Some(&range)), ConfigErrorKind::Value);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

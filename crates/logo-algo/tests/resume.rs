@@ -348,6 +348,22 @@ fn kept_checkpoints_are_learner_states() {
     }
 }
 
+/// A format-1 state that names its format (none was written so) reads as one that does not.
+#[test]
+fn a_format_one_state_that_names_its_number_reads_the_same() {
+    use logo_algo::LearnerState;
+    let kept = logo_testkit::workspace()
+        .join("docs/results/paper-scale/hopper/hopper/seed0/checkpoint.safetensors");
+    let (_, unnumbered) = LearnerState::load(&kept, None).unwrap();
+    let mut ckpt = logo_nn::Checkpoint::load(&kept).unwrap();
+    ckpt.meta.extra["resume"]["format"] = serde_json::json!(1);
+    let dir = scratch("format-one");
+    let path = dir.join("checkpoint.safetensors");
+    ckpt.save(&path).unwrap();
+    let (_, numbered) = LearnerState::load(&path, None).unwrap();
+    assert_eq!(numbered.learned, unnumbered.learned);
+}
+
 /// A resume state of a format this build does not know is refused by name, not read as
 /// something else.
 #[test]
@@ -367,7 +383,7 @@ fn an_unknown_resume_format_is_refused() {
         .unwrap()
         .to_string();
     assert!(
-        err.contains("resume state: format 3 is not one this logo-rl reads (1 to 2"),
+        err.contains("resume state: format 3 is newer than this logo-rl reads (1 to 2)"),
         "{err}"
     );
 }

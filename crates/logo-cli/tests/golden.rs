@@ -297,7 +297,12 @@ const KEPT_FAMILIES: &[&str] = &[
 ];
 
 /// Where each kept family's run is after one more iteration: `logo train --resume` on a
-/// copy of it, the new checkpoint's iteration, samples and tensors as one SHA-256.
+/// copy of it; the line names the run and the iteration reached, then two SHA-256s: of
+/// the new checkpoint's samples and tensors (recorded on fd906cb, before the learner
+/// state's format got its number), and of its learner state besides the networks
+/// (`extra.resume`, format 2, recorded on the commit after 32de645): the δ schedule's
+/// window, the optimisers' moments and the sampler's position, which one iteration's
+/// tensors need not show.
 fn resume_digest(kept: &str) -> String {
     let from = root().join("docs/results").join(kept);
     let dir = std::env::temp_dir().join(format!(
@@ -329,12 +334,15 @@ fn resume_digest(kept: &str) -> String {
     assert!(status.success(), "{kept}: logo train --resume failed");
     let after = Checkpoint::load(&dir.join("checkpoint.safetensors")).unwrap();
     assert_eq!(after.meta.iteration, next, "{kept}");
-    let mut hash = Sha256::new();
-    hash.update(after.meta.extra["samples"].to_string());
-    hash.update(tensors(&dir));
+    let hex =
+        |hash: Sha256| -> String { hash.finalize().iter().map(|b| format!("{b:02x}")).collect() };
+    let mut networks = Sha256::new();
+    networks.update(after.meta.extra["samples"].to_string());
+    networks.update(tensors(&dir));
+    let mut state = Sha256::new();
+    state.update(after.meta.extra["resume"].to_string());
     std::fs::remove_dir_all(&dir).unwrap();
-    let digest: String = hash.finalize().iter().map(|b| format!("{b:02x}")).collect();
-    format!("{kept} {next} {digest}\n")
+    format!("{kept} {next} {} {}\n", hex(networks), hex(state))
 }
 
 /// Every kept checkpoint family resumes exactly as it did when the digests were recorded

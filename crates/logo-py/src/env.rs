@@ -6,7 +6,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::env_error;
+use crate::errors::{env_error, render_error};
 
 /// Every id `RustEnv` takes by name (`logo envs`): the dense tasks, then LOGO's sparse ones.
 #[pyfunction]
@@ -189,11 +189,11 @@ impl RustEnv {
             .is_some_and(|r| r.size() != (width, height));
         if self.renderer.is_none() || stale {
             let renderer = Renderer::new(&self.factory, width, height, Look::Full);
-            self.renderer = Some(renderer.map_err(env_error)?);
+            self.renderer = Some(renderer.map_err(render_error)?);
         }
         let renderer = self.renderer.as_mut().expect("made above");
         let (qpos, qvel) = self.env.state();
-        let frame = renderer.render(qpos, qvel).map_err(env_error)?;
+        let frame = renderer.render(qpos, qvel).map_err(render_error)?;
         let shape = [height as usize, width as usize, 3];
         let array = frame.to_vec().into_pyarray(py);
         array.reshape(shape)

@@ -37,6 +37,24 @@ impl Kind {
         }
     }
 
+    /// A missing model is a missing file; an unknown id, a bad option, an action or a
+    /// state of the wrong size or not finite are bad values; the rest (a model MuJoCo
+    /// refuses, a step before reset, a Python env's own error) are LogoError itself.
+    fn of_env(e: &EnvError) -> Self {
+        match e {
+            EnvError::ModelMissing(_) => Self::NotFound,
+            EnvError::UnknownId(..)
+            | EnvError::InvalidOption(_)
+            | EnvError::ActionLength { .. }
+            | EnvError::NonFiniteAction { .. }
+            | EnvError::StateLength { .. } => Self::Value,
+            EnvError::ModelLoad { .. }
+            | EnvError::NeedsReset { .. }
+            | EnvError::NotAtReset(_)
+            | EnvError::External { .. } => Self::Other,
+        }
+    }
+
     /// The kind of the first error in a chain that says one: a missing file, a config's
     /// mistake, an env's.
     fn of_chain<'a>(chain: impl Iterator<Item = &'a (dyn std::error::Error + 'static)>) -> Self {
@@ -47,8 +65,8 @@ impl Kind {
                 }
             } else if let Some(e) = cause.downcast_ref::<ConfigError>() {
                 return Self::of_config(e.kind);
-            } else if cause.downcast_ref::<EnvError>().is_some() {
-                return Self::Value;
+            } else if let Some(e) = cause.downcast_ref::<EnvError>() {
+                return Self::of_env(e);
             }
         }
         Self::Other
@@ -94,9 +112,14 @@ pub(crate) fn logo_error(e: &anyhow::Error) -> PyErr {
     raised(Kind::of_chain(e.chain()), in_python_words(&line))
 }
 
-/// An error of the Rust envs (an unknown id, a non-finite action) as a LogoValueError.
-pub(crate) fn env_error(e: impl std::fmt::Display) -> PyErr {
-    raised(Kind::Value, e.to_string())
+/// An error of the Rust envs (an unknown id, a non-finite action), raised by its kind.
+pub(crate) fn env_error(e: EnvError) -> PyErr {
+    raised(Kind::of_env(&e), e.to_string())
+}
+
+/// A renderer's failure (no GL, no display): LogoError itself.
+pub(crate) fn render_error(e: impl std::fmt::Display) -> PyErr {
+    raised(Kind::Other, e.to_string())
 }
 
 /// `logo train`'s flags and the keyword arguments of `logo_rl.train` that say the same.

@@ -12,7 +12,7 @@ use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
 use serde_json::{Map, Value};
 
-use crate::errors::LogoError;
+use crate::errors::{Kind, LogoError, raised};
 
 /// One episode from Python: observations `[steps + 1, obs_dim]`, actions
 /// `[steps, act_dim]`, the env's rewards, terminations and truncations `[steps]`.
@@ -78,7 +78,7 @@ pub fn write_dataset(
     }
     metadata.insert("logo_recording".into(), summary);
     let dataset = Dataset::checked(obs_dim, act_dim, parts, metadata, &dir)
-        .map_err(|e| LogoError::new_err(e.to_string()))?;
+        .map_err(|e| raised(Kind::Value, e.to_string()))?;
     write_minari(&dataset, &dir).map_err(|e| LogoError::new_err(e.to_string()))
 }
 
@@ -105,7 +105,8 @@ pub fn read_dataset<'py>(
             dir.display()
         )));
     }
-    let dataset = logo_data::read_minari(&dir).map_err(|e| LogoError::new_err(e.to_string()))?;
+    // A folder that is there but not a dataset this reads: a bad value.
+    let dataset = logo_data::read_minari(&dir).map_err(|e| raised(Kind::Value, e.to_string()))?;
     let (obs_dim, act_dim) = (dataset.obs_dim, dataset.act_dim);
     let mut out = Vec::with_capacity(dataset.episodes.len());
     for episode in &dataset.episodes {

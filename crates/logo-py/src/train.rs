@@ -15,7 +15,7 @@ use logo_envs::{EnvConfig, EnvMaker, EnvSpec};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::{config_error, logo_error};
+use crate::errors::{Kind, config_error, logo_error, raised};
 use crate::python_env::{PyEnvMaker, Raised};
 
 /// Lines go to `say` (a Python callable). Python's pending signals are checked after each
@@ -324,7 +324,7 @@ pub fn configure(
     let loaded = self::config(config, table_json, base)?;
     let made = logo_algo::algorithms::configure(&loaded, name).map_err(|e| {
         let origin = origin.map_or("<config dict>".into(), |p| p.display().to_string());
-        PyValueError::new_err(format!("{origin}: as {name}: {e}"))
+        raised(Kind::Value, format!("{origin}: as {name}: {e}"))
     })?;
     made.to_toml()
         .map_err(|e| crate::errors::LogoError::new_err(e.to_string()))

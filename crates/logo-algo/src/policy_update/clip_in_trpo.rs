@@ -7,6 +7,7 @@
 use logo_nn::{Engine, Policy};
 
 use super::objective::{StepBatch, Surrogate};
+use super::ppo_clip::PpoClipConfig;
 use super::stats::UpdateStats;
 use super::trpo::{TrpoConfig, natural_gradient_step};
 
@@ -17,7 +18,9 @@ pub(super) fn update<E: Engine>(
     batch: &StepBatch<E>,
     delta: f64,
 ) -> (Policy<E>, UpdateStats) {
-    let epsilon = config.clip_epsilon.unwrap_or(0.2);
+    let epsilon = config
+        .clip_epsilon
+        .unwrap_or(PpoClipConfig::default().clip_epsilon);
     natural_gradient_step(
         config,
         Surrogate::Clipped { epsilon },

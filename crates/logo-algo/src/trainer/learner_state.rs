@@ -296,7 +296,8 @@ fn migrate(resume: &serde_json::Value, config: &TrainConfig) -> Result<Learned, 
     let bad = |e: serde_json::Error| format!("metadata resume state: {e}");
     match resume.get("format").map(serde_json::Value::as_u64) {
         None if resume.is_null() => Ok(Learned::unresumable()),
-        None => {
+        // Format 1 was written without its number; one that names it reads the same.
+        None | Some(Some(1)) => {
             let one: FormatOne = serde_json::from_value(resume.clone()).map_err(bad)?;
             Ok(one.into_learned(config))
         }
@@ -304,9 +305,13 @@ fn migrate(resume: &serde_json::Value, config: &TrainConfig) -> Result<Learned, 
             let read: Versioned<Learned> = serde_json::from_value(resume.clone()).map_err(bad)?;
             Ok(read.learned)
         }
+        Some(Some(newer)) if newer > Learned::FORMAT => Err(format!(
+            "metadata resume state: format {newer} is newer than this logo-rl reads (1 to {}): \
+             resume it with the logo-rl that wrote it, or a later one",
+            Learned::FORMAT
+        )),
         Some(_) => Err(format!(
-            "metadata resume state: format {} is not one this logo-rl reads (1 to {}: a \
-             newer logo-rl wrote it?)",
+            "metadata resume state: format {} is not a format this logo-rl knows (1 to {})",
             resume["format"],
             Learned::FORMAT
         )),

@@ -12,8 +12,9 @@ logo-rl's Rust trainer, its Gymnasium-exact MuJoCo envs and its trained policies
 - :class:`SparseReward`: logo-rl's sparse kinds on any Gymnasium env;
 - :func:`record`: demonstrations of a policy or a controller into Minari.
 
-The extension links MuJoCo 3.17.0 from the ``mujoco`` wheel, and the envs read their MJCF
-files from the ``gymnasium`` 1.4.0 wheel (``LOGO_MODELS_DIR`` overrides that).
+The extension uses MuJoCo 3.17.0 from the ``mujoco`` wheel (loaded here, before it), and
+the envs read their MJCF files from the ``gymnasium`` 1.4.0 wheel (``LOGO_MODELS_DIR``
+overrides that).
 """
 
 import importlib.util as _util
