@@ -93,8 +93,8 @@ fn accepted(extra: &str, guidance: bool) -> BTreeSet<String> {
     keys
 }
 
-/// The keys documented in the table under `## heading` (first column, backquoted).
-fn documented(page: &str, heading: &str) -> BTreeSet<String> {
+/// The key rows of the table under `## heading` (those opening with a backquoted key).
+fn section_rows<'a>(page: &'a str, heading: &str) -> impl Iterator<Item = &'a str> {
     let start = page
         .lines()
         .position(|l| l.strip_prefix("## ") == Some(heading))
@@ -102,8 +102,17 @@ fn documented(page: &str, heading: &str) -> BTreeSet<String> {
     page.lines()
         .skip(start + 1)
         .take_while(|l| !l.starts_with("## "))
-        .filter_map(|l| l.strip_prefix("| `"))
-        .filter_map(|l| l.split_once('`').map(|(key, _)| key.to_string()))
+        .filter(|l| l.starts_with("| `"))
+}
+
+/// The keys documented in the table under `## heading` (first column, backquoted).
+fn documented(page: &str, heading: &str) -> BTreeSet<String> {
+    section_rows(page, heading)
+        .filter_map(|l| {
+            l["| `".len()..]
+                .split_once('`')
+                .map(|(key, _)| key.to_string())
+        })
         .collect()
 }
 
@@ -137,14 +146,7 @@ fn the_check_sees_a_key_missing_from_the_page() {
 /// Each row of the section under `## heading`: (key, its default cell with backquotes
 /// removed).
 fn documented_defaults(page: &str, heading: &str) -> Vec<(String, String)> {
-    let start = page
-        .lines()
-        .position(|l| l.strip_prefix("## ") == Some(heading))
-        .unwrap_or_else(|| panic!("docs/config.md has no section `## {heading}`"));
-    page.lines()
-        .skip(start + 1)
-        .take_while(|l| !l.starts_with("## "))
-        .filter(|l| l.starts_with("| `"))
+    section_rows(page, heading)
         .map(|l| {
             let cells: Vec<&str> = l.split('|').map(str::trim).collect();
             (

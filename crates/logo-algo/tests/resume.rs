@@ -145,14 +145,21 @@ fn a_non_finite_update_stops_the_run_and_keeps_the_last_checkpoint() {
     assert_eq!(metrics_without_timings(&dir), rows);
 }
 
-#[test]
-fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
-    let dir = scratch("tampered");
+/// A LOGO run of two iterations in a scratch folder `name`, its process ended (so the
+/// folder is free to resume): the folder and its checkpoint's path.
+fn two_logo_iterations(name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = scratch(name);
     let mut trainer = Trainer::new(Kernels, config(&dir, true), &dir).unwrap();
     trainer.step().unwrap();
     trainer.step().unwrap();
-    drop(trainer); // its process ends: the folder is free to resume
+    drop(trainer);
     let path = dir.join("checkpoint.safetensors");
+    (dir, path)
+}
+
+#[test]
+fn a_checkpoint_whose_metadata_disagrees_with_itself_is_refused() {
+    let (dir, path) = two_logo_iterations("tampered");
     let good = logo_nn::Checkpoint::load(&path).unwrap();
     // The checkpoint with one edit, saved over the run's; the error resuming it.
     let resume_edited = |edit: &dyn Fn(&mut logo_nn::Checkpoint)| {
@@ -368,12 +375,7 @@ fn a_format_one_state_that_names_its_number_reads_the_same() {
 /// something else.
 #[test]
 fn an_unknown_resume_format_is_refused() {
-    let dir = scratch("unknown-format");
-    let mut trainer = Trainer::new(Kernels, config(&dir, true), &dir).unwrap();
-    trainer.step().unwrap();
-    trainer.step().unwrap();
-    drop(trainer);
-    let path = dir.join("checkpoint.safetensors");
+    let (dir, path) = two_logo_iterations("unknown-format");
     let mut ckpt = logo_nn::Checkpoint::load(&path).unwrap();
     assert_eq!(ckpt.meta.extra["resume"]["format"], 2);
     ckpt.meta.extra["resume"]["format"] = serde_json::json!(3);

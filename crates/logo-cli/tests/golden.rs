@@ -42,10 +42,14 @@ fn tensors(dir: &Path) -> String {
         for v in values {
             hash.update(v.to_bits().to_le_bytes());
         }
-        let digest: String = hash.finalize().iter().map(|b| format!("{b:02x}")).collect();
-        writeln!(out, "{name} {} {digest}", values.len()).unwrap();
+        writeln!(out, "{name} {} {}", values.len(), hex(hash)).unwrap();
     }
     out
+}
+
+/// A SHA-256 digest in lowercase hex.
+fn hex(hash: Sha256) -> String {
+    hash.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// Trains `config` into a scratch folder (with `--dtype` where `dtype` names one); its
@@ -334,8 +338,6 @@ fn resume_digest(kept: &str) -> String {
     assert!(status.success(), "{kept}: logo train --resume failed");
     let after = Checkpoint::load(&dir.join("checkpoint.safetensors")).unwrap();
     assert_eq!(after.meta.iteration, next, "{kept}");
-    let hex =
-        |hash: Sha256| -> String { hash.finalize().iter().map(|b| format!("{b:02x}")).collect() };
     let mut networks = Sha256::new();
     networks.update(after.meta.extra["samples"].to_string());
     networks.update(tensors(&dir));

@@ -261,11 +261,7 @@ fn read_record(
         .map_err(|e| format!("metadata config: {e}"))?;
     let learned = migrate(&extra["resume"], &config)?;
     if learned.sampler.is_none() {
-        return Err(
-            "holds no resume state (runs with rollout = \"steps\" continue episodes \
-             across iterations and cannot be resumed exactly; older checkpoints lack it)"
-                .into(),
-        );
+        return Err(NO_RESUME_STATE.into());
     }
     // A run copied from another clone names files by that clone's absolute paths: they
     // are looked for under the working folder, then under each folder above the run's
@@ -290,12 +286,16 @@ fn read_record(
     Ok((config, learned))
 }
 
+/// A checkpoint without the sampler's state (format 1 wrote `null` for it).
+const NO_RESUME_STATE: &str = "holds no resume state (runs with rollout = \"steps\" continue \
+     episodes across iterations and cannot be resumed exactly; older checkpoints lack it)";
+
 /// A checkpoint's `resume` field, in any format it has had, as today's [`Learned`].
 /// Where the format moves on, the step from the last one goes here.
 fn migrate(resume: &serde_json::Value, config: &TrainConfig) -> Result<Learned, String> {
     let bad = |e: serde_json::Error| format!("metadata resume state: {e}");
     match resume.get("format").map(serde_json::Value::as_u64) {
-        None if resume.is_null() => Ok(Learned::unresumable()),
+        None if resume.is_null() => Err(NO_RESUME_STATE.into()),
         // Format 1 was written without its number; one that names it reads the same.
         None | Some(Some(1)) => {
             let one: FormatOne = serde_json::from_value(resume.clone()).map_err(bad)?;
@@ -390,18 +390,6 @@ fn check_config_against_meta(
 impl Learned {
     /// The format checkpoints are written in; [`migrate`] reads it and every older one.
     pub const FORMAT: u64 = 2;
-
-    /// A format-1 checkpoint written without its resume state (`null`).
-    fn unresumable() -> Self {
-        Self {
-            iteration: 0,
-            samples: 0,
-            improvement: UpdateState::default(),
-            critic_adam: Vec::new(),
-            guidance: None,
-            sampler: None,
-        }
-    }
 
     /// Values a damaged or hand-edited checkpoint can get wrong, checked against the
     /// config they will run under.
