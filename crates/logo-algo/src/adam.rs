@@ -3,6 +3,7 @@
 //! `adam` fit. Written out rather than burn's optimizer so that its state is plain
 //! vectors a checkpoint holds (for `logo train --resume`).
 
+use crate::error::Invalid;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -18,13 +19,14 @@ pub struct Adam {
 impl Adam {
     /// Moments restored from a checkpoint must be fresh (empty) or fit `len` parameters,
     /// with finite values and v ≥ 0: [`Adam::step`] would otherwise reset them silently.
-    pub fn check(&self, len: usize) -> Result<(), String> {
+    pub fn check(&self, len: usize) -> Result<(), Invalid> {
         if self.m.len() != self.v.len() || !(self.m.is_empty() || self.m.len() == len) {
             return Err(format!(
                 "Adam moments of lengths {} and {}, expected {len} (or none)",
                 self.m.len(),
                 self.v.len()
-            ));
+            )
+            .into());
         }
         if self.m.iter().any(|x| !x.is_finite())
             || self.v.iter().any(|x| !(x.is_finite() && *x >= 0.0))

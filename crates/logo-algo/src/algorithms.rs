@@ -6,6 +6,7 @@
 use crate::bc::{InitConfig, InitKind};
 use crate::config::{DecaySignal, GuidanceConfig, RewardConfig, TrainConfig};
 use crate::dapg::DemonstrationRowsConfig;
+use crate::error::Invalid;
 use crate::policy_update::{NpgConfig, PolicyUpdateConfig};
 
 /// One algorithm: its name, what it is in a line, where it comes from, and how to run it.
@@ -126,7 +127,7 @@ pub const COMPARABLE: [&str; 6] = ["logo", "trpo", "gail", "pofd", "bc-trpo", "d
 /// `base`, a LOGO config (its task, budget, networks, TRPO settings and demonstrations),
 /// made into algorithm `name` by the keys that make that algorithm and nothing else: the
 /// same task and settings, so that the runs differ by their algorithm alone.
-pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> {
+pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, Invalid> {
     let guidance = base
         .guidance
         .as_ref()
@@ -200,7 +201,8 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, String> 
             return Err(format!(
                 "unknown algorithm {other:?}: expected one of {}",
                 COMPARABLE.join(", ")
-            ));
+            )
+            .into());
         }
     }
     config.validate()?;

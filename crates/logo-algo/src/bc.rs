@@ -5,6 +5,7 @@
 //! With `learn_std = false` the log σ stays where it started and only the mean is
 //! fitted (then the loss is a weighted squared error, as DAPG's code fits its BC).
 
+use crate::error::{Invalid, TrainError};
 use std::path::PathBuf;
 
 use burn::tensor::Tensor;
@@ -66,7 +67,7 @@ impl InitConfig {
     }
 
     /// The values a file can get wrong; the message names the key.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         if self.epochs == 0 {
             return Err("init.epochs must be at least 1".into());
         }
@@ -77,7 +78,8 @@ impl InitConfig {
             return Err(format!(
                 "init.learning_rate must be a positive number, got {}",
                 self.learning_rate
-            ));
+            )
+            .into());
         }
         Ok(())
     }
@@ -120,14 +122,14 @@ pub fn clone_policy<E: Engine>(
     config: &InitConfig,
     seed: u64,
     what: &str,
-) -> Result<(Policy<E>, BcReport), String> {
+) -> Result<(Policy<E>, BcReport), TrainError> {
     let mut rng = generator(seed);
     let (fitted, report) = fit(engine, policy, obs, actions, config, &mut rng);
     if !fitted.is_finite(engine) {
-        return Err(format!(
+        return Err(TrainError::NonFinite(format!(
             "behaviour cloning on {what} left a non-finite parameter (try a smaller learning \
              rate)"
-        ));
+        )));
     }
     Ok((fitted, report))
 }

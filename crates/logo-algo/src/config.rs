@@ -2,6 +2,7 @@
 //! errors naming the file and the key; every value is checked in [`TrainConfig::validate`]
 //! (on a fresh run and on `--resume`); paths are relative to the config file's folder.
 
+use crate::error::Invalid;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -175,13 +176,13 @@ impl RewardConfig {
             .collect()
     }
 
-    fn validate(&self) -> Result<(), String> {
+    fn validate(&self) -> Result<(), Invalid> {
         for (key, v) in [
             ("reward.env", self.env),
             ("reward.discriminator", self.discriminator),
         ] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(format!("{key} must be a number ≥ 0, got {v}"));
+                return Err(format!("{key} must be a number ≥ 0, got {v}").into());
             }
         }
         if self.env == 0.0 && self.discriminator == 0.0 {
@@ -328,9 +329,13 @@ impl ConfigError {
         Self::new(path, kind, message)
     }
 
-    /// A value the checks refuse.
-    fn value(path: &Path, message: String) -> Self {
-        Self::new(path, ConfigErrorKind::Value, message)
+    /// What the checks refuse: a file a key names that is not there, or a value.
+    fn refused(path: &Path, refused: Invalid) -> Self {
+        let kind = match refused {
+            Invalid::Missing(_) => ConfigErrorKind::NotFound,
+            Invalid::Value(_) => ConfigErrorKind::Value,
+        };
+        Self::new(path, kind, refused.message().to_string())
     }
 }
 
@@ -396,7 +401,7 @@ impl TrainConfig {
             // `[algorithm] name`: the preset's keys under the config's own.
             true => {
                 let expanded =
-                    presets::expand(table, lay_over).map_err(|e| ConfigError::value(path, e))?;
+                    presets::expand(table, lay_over).map_err(|e| ConfigError::refused(path, e))?;
                 TrainConfig::deserialize(expanded).map_err(toml_error)?
             }
             // Read from the text, so that an error points at its line.
@@ -422,7 +427,9 @@ impl TrainConfig {
             g.demos.as_mut().map(resolve);
             g.behaviour_policy.as_mut().map(resolve);
         }
-        config.validate().map_err(|e| ConfigError::value(path, e))?;
+        config
+            .validate()
+            .map_err(|e| ConfigError::refused(path, e))?;
         Ok(config)
     }
 
@@ -486,14 +493,14 @@ impl TrainConfig {
     }
 
     /// Every value a file can get wrong; the message names the key.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         self.check_sizes()?;
         self.check_values()?;
         self.check_combinations()
     }
 
     /// Counts: at least 1, and at most what a machine can hold.
-    fn check_sizes(&self) -> Result<(), String> {
+    fn check_sizes(&self) -> Result<(), Invalid> {
         let positive = [
             ("iterations", self.iterations),
             ("samples_per_iter", self.samples_per_iter),
@@ -505,7 +512,7 @@ impl TrainConfig {
             ("checkpoint_every", self.checkpoint_every),
         ];
         if let Some((key, _)) = positive.iter().find(|(_, v)| *v == 0) {
-            return Err(format!("{key} must be at least 1"));
+            return Err(format!("{key} must be at least 1").into());
         }
         // Upper bounds: a batch, an evaluation and the env copies are held in memory, so a
         // size past these cannot run on any machine this is for (and a typo like
@@ -522,27 +529,29 @@ impl TrainConfig {
             ("threads", self.threads, MAX_ENVS),
         ];
         if let Some((key, value, max)) = at_most.iter().find(|(_, v, max)| v > max) {
-            return Err(format!("{key} must be at most {max}, got {value}"));
+            return Err(format!("{key} must be at most {max}, got {value}").into());
         }
         Ok(())
     }
 
     /// Each value on its own: envs, ranges, the tables' own checks, files.
-    fn check_values(&self) -> Result<(), String> {
-        self.env.validate("env")?;
+    fn check_values(&self) -> Result<(), Invalid> {
+        let unusable = |e: logo_envs::EnvKeyError| Invalid::Value(e.to_string());
+        self.env.validate("env").map_err(unusable)?;
         if let Some(env) = &self.eval_env {
-            env.validate("eval_env")?;
+            env.validate("eval_env").map_err(unusable)?;
         }
         check_positive("max_kl", self.max_kl, false)?;
         if !(-20.0..=5.0).contains(&self.log_std_init) {
             return Err(format!(
                 "log_std_init must be in [-20, 5] (σ from 2e-9 to 148), got {}",
                 self.log_std_init
-            ));
+            )
+            .into());
         }
         for (key, v) in [("gamma", self.gamma), ("gae_lambda", self.gae_lambda)] {
             if !(0.0..=1.0).contains(&v) {
-                return Err(format!("{key} must be in [0, 1], got {v}"));
+                return Err(format!("{key} must be in [0, 1], got {v}").into());
             }
         }
         check_widths("policy_hidden", &self.policy_hidden)?;
@@ -551,7 +560,10 @@ impl TrainConfig {
         if let Some(p) = &self.init_policy
             && !p.is_file()
         {
-            return Err(format!("init_policy: file {} not found", p.display()));
+            return Err(Invalid::Missing(format!(
+                "init_policy: file {} not found",
+                p.display()
+            )));
         }
         if let Some(g) = &self.guidance {
             g.validate()?;
@@ -574,14 +586,17 @@ impl TrainConfig {
             if let Some(p) = path
                 && !p.exists()
             {
-                return Err(format!("{key}: {} not found", p.display()));
+                return Err(Invalid::Missing(format!(
+                    "{key}: {} not found",
+                    p.display()
+                )));
             }
         }
         Ok(())
     }
 
     /// Settings that cannot go together.
-    fn check_combinations(&self) -> Result<(), String> {
+    fn check_combinations(&self) -> Result<(), Invalid> {
         if let Some(g) = &self.guidance
             && g.decay_on == DecaySignal::Success
             && self.success == SuccessRule::None
@@ -618,7 +633,8 @@ impl TrainConfig {
                     "demonstration_rows: DAPG's demonstration rows go with [improvement] \
                      kind = \"npg\", not \"{}\"",
                     self.improvement.kind()
-                ));
+                )
+                .into());
             }
             if self.demonstration_rows_demos().is_none() {
                 return Err(
@@ -642,7 +658,8 @@ impl TrainConfig {
                     return Err(format!(
                         "normalise_observations: {key} is a policy of raw observations; \
                          set one or the other"
-                    ));
+                    )
+                    .into());
                 }
             }
         }
@@ -677,7 +694,7 @@ impl TrainConfig {
 
     /// An `eval_env` must take the trained policy: the same observation and action dims as
     /// `env`. Loads both models, so it is not part of [`Self::validate`].
-    pub fn check_eval_env_dims(&self) -> Result<(), String> {
+    pub fn check_eval_env_dims(&self) -> Result<(), Invalid> {
         let Some(eval_env) = &self.eval_env else {
             return Ok(());
         };
@@ -794,7 +811,7 @@ impl GuidanceConfig {
     }
 
     /// The step's keys are set exactly with the step.
-    fn check_step(&self) -> Result<(), String> {
+    fn check_step(&self) -> Result<(), Invalid> {
         let step_keys = [
             ("delta0", self.delta0.is_some()),
             ("alpha", self.alpha.is_some()),
@@ -807,7 +824,8 @@ impl GuidanceConfig {
                 return Err(format!(
                     "guidance.{key} belongs to the guidance step, which guidance.step = false \
                      turns off; remove it"
-                ));
+                )
+                .into());
             }
             if self.demos.is_none() {
                 return Err(
@@ -822,17 +840,18 @@ impl GuidanceConfig {
             return Err(format!(
                 "guidance.{key} is required (the guidance step's δ_k schedule; \
                  docs/config.md), or set guidance.step = false"
-            ));
+            )
+            .into());
         }
         check_positive("guidance.delta0", self.delta0.unwrap_or_default(), false)?;
         let alpha = self.alpha.unwrap_or_default();
         if !(alpha > 0.0 && alpha <= 1.0) {
-            return Err(format!("guidance.alpha must be in (0, 1], got {alpha}"));
+            return Err(format!("guidance.alpha must be in (0, 1], got {alpha}").into());
         }
         Ok(())
     }
 
-    fn validate(&self) -> Result<(), String> {
+    fn validate(&self) -> Result<(), Invalid> {
         match (&self.demos, &self.behaviour_policy) {
             (None, None) => {
                 return Err("guidance: set demos (a discriminator) or behaviour_policy".into());
@@ -849,7 +868,10 @@ impl GuidanceConfig {
             if let Some(p) = p
                 && !p.exists()
             {
-                return Err(format!("{key}: {} not found", p.display()));
+                return Err(Invalid::Missing(format!(
+                    "{key}: {} not found",
+                    p.display()
+                )));
             }
         }
         self.check_step()?;
@@ -873,10 +895,10 @@ impl GuidanceConfig {
 
 /// Why an evaluation env cannot take a policy trained on `trained`, if it cannot: other
 /// observation or action dims.
-pub fn dims_mismatch(trained: &EnvSpec, evaluated: &EnvSpec) -> Option<String> {
+pub fn dims_mismatch(trained: &EnvSpec, evaluated: &EnvSpec) -> Option<Invalid> {
     let same = (evaluated.obs_dim, evaluated.act_dim) == (trained.obs_dim, trained.act_dim);
     (!same).then(|| {
-        format!(
+        Invalid::Value(format!(
             "eval_env {} does not have the dims of env {}: {} observations and {} actions \
              against {} and {}",
             evaluated.id,
@@ -885,7 +907,7 @@ pub fn dims_mismatch(trained: &EnvSpec, evaluated: &EnvSpec) -> Option<String> {
             evaluated.act_dim,
             trained.obs_dim,
             trained.act_dim
-        )
+        ))
     })
 }
 

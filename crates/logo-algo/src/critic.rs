@@ -4,6 +4,7 @@
 //! (the reference: 25 iterations, l2 = 1e-3) or by epochs of minibatch Adam, a config
 //! choice (`[critic.fit] method = "lbfgs" | "adam"`).
 
+use crate::error::Invalid;
 use burn::tensor::Tensor;
 use logo_nn::flat::dot;
 use logo_nn::loss::{mse, value_and_grad};
@@ -120,7 +121,7 @@ impl Default for AdamFit {
 
 impl CriticConfig {
     /// What a config file cannot be trusted to hold; `table` names where it is.
-    pub fn validate(&self, table: &str) -> Result<(), String> {
+    pub fn validate(&self, table: &str) -> Result<(), Invalid> {
         check_widths(&format!("{table}.hidden"), &self.hidden)?;
         match &self.fit {
             CriticFit::Lbfgs(fit) => {

@@ -8,6 +8,7 @@
 //! mjrl's code gives the demonstrations λ0·λ1^k against advantages scaled to unit
 //! deviation, without the max; the paper's max Â is used here (docs/algorithms.md).
 
+use crate::error::{At, Invalid, TrainError};
 use std::path::PathBuf;
 
 use burn::tensor::Tensor;
@@ -34,18 +35,20 @@ pub struct DemonstrationRowsConfig {
 }
 
 impl DemonstrationRowsConfig {
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         if !(self.lambda0.is_finite() && self.lambda0 >= 0.0) {
             return Err(format!(
                 "demonstration_rows.lambda0 must be a number ≥ 0, got {}",
                 self.lambda0
-            ));
+            )
+            .into());
         }
         if !(0.0..=1.0).contains(&self.lambda1) {
             return Err(format!(
                 "demonstration_rows.lambda1 must be in [0, 1], got {}",
                 self.lambda1
-            ));
+            )
+            .into());
         }
         Ok(())
     }
@@ -69,11 +72,11 @@ pub struct DemonstrationRows {
 
 impl DemonstrationRows {
     /// Loads `path` for the env `spec`; `key` names the config key in errors.
-    pub fn load(path: &std::path::Path, key: &str, spec: &EnvSpec) -> Result<Self, String> {
-        let demos = Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim)
-            .map_err(|e| format!("{key}: {e}"))?;
+    pub fn load(path: &std::path::Path, key: &str, spec: &EnvSpec) -> Result<Self, TrainError> {
+        let demos = Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim).at(key)?;
         if demos.is_empty() {
-            return Err(format!("{key}: {} holds no pairs", path.display()));
+            let empty = Invalid::Value(format!("{} holds no pairs", path.display()));
+            return Err(TrainError::from(empty).at(key));
         }
         Ok(Self::new(
             demos.obs,

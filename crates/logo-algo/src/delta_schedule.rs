@@ -1,6 +1,7 @@
 //! δ_k, the guidance step's KL bound, and when it decays (LOGO's Algorithm 1, line 12, as
 //! the reference code runs it: docs/reference.md).
 
+use crate::error::Invalid;
 use std::collections::VecDeque;
 
 use serde::{Deserialize, Serialize};
@@ -50,21 +51,23 @@ impl DeltaSchedule {
     /// What a resume state must hold for a run whose config starts δ at `delta0`: δ in
     /// [floor, δ_0] (it only ever shrinks), α in (0, 1], at most the window's 10 finite
     /// returns.
-    pub fn check(&self, delta0: f64) -> Result<(), String> {
+    pub fn check(&self, delta0: f64) -> Result<(), Invalid> {
         if !(self.delta.is_finite() && self.delta >= DELTA_FLOOR && self.delta <= delta0) {
             return Err(format!(
                 "δ_k = {} is outside [{DELTA_FLOOR:e}, δ_0 = {delta0}]",
                 self.delta
-            ));
+            )
+            .into());
         }
         if !(self.alpha > 0.0 && self.alpha <= 1.0) {
-            return Err(format!("α = {} is outside (0, 1]", self.alpha));
+            return Err(format!("α = {} is outside (0, 1]", self.alpha).into());
         }
         if self.window.len() > WINDOW || self.window.iter().any(|r| !r.is_finite()) {
             return Err(format!(
                 "the window of returns must hold at most {WINDOW} finite values, got {:?}",
                 self.window
-            ));
+            )
+            .into());
         }
         Ok(())
     }

@@ -28,6 +28,7 @@ pub mod dapg;
 pub mod delta_schedule;
 pub mod discriminator;
 pub mod episode;
+pub mod error;
 pub mod gae;
 pub mod guidance;
 pub mod lbfgs;
@@ -43,5 +44,6 @@ pub mod trainer;
 pub mod validate;
 
 pub use config::{ConfigError, ConfigErrorKind, Dtype, EvalInitialStates, TrainConfig};
+pub use error::{At, Invalid, TrainError};
 pub use metrics::IterationMetrics;
 pub use trainer::{EngineSpan, Learned, LearnerState, Schedule, Trainer, engine_history};

@@ -5,6 +5,7 @@
 //! its `configs/<name>/` folder and `configs/trpo/` (or `configs/logo/` for LOGO's
 //! variants); a test holds them to it. A run stores the expanded tables, not the name.
 
+use crate::error::Invalid;
 use serde::{Deserialize, Serialize};
 
 /// POfD's λ₁ in its preset, `configs/pofd/` and `logo compare` (docs/algorithms.md says why).
@@ -99,7 +100,7 @@ enum Guidance {
 pub fn expand(
     table: toml::Table,
     lay_over: fn(&mut toml::Table, toml::Table),
-) -> Result<toml::Table, String> {
+) -> Result<toml::Table, Invalid> {
     let Some(value) = table.get("algorithm") else {
         return Ok(table);
     };
@@ -117,7 +118,8 @@ pub fn expand(
             return Err(format!(
                 "algorithm.name = {name:?} has no discriminator or guidance step: remove \
                  [guidance] (demonstrations to clone go in [init] demos)"
-            ));
+            )
+            .into());
         }
         (Guidance::Discriminator | Guidance::Step, None) => {
             return Err(format!(
@@ -127,7 +129,8 @@ pub fn expand(
                 } else {
                     ""
                 }
-            ));
+            )
+            .into());
         }
         _ => {}
     }

@@ -11,8 +11,7 @@ use std::path::{Path, PathBuf};
 use crate::config::TrainConfig;
 use crate::metrics::IterationMetrics;
 
-/// Anything that stops a run, as one message naming its cause.
-pub type TrainError = Box<dyn std::error::Error + Send + Sync>;
+pub use crate::error::TrainError;
 
 pub struct RunDir {
     path: PathBuf,
@@ -26,9 +25,17 @@ pub const CHECKPOINT: &str = "checkpoint.safetensors";
 /// Beside it: the policy (a whole checkpoint) of the run's best evaluation.
 pub const BEST: &str = "best.safetensors";
 
-/// `what` failed on `path`: the error with the path in it.
-fn at(path: &Path, e: impl std::fmt::Display) -> TrainError {
-    format!("{}: {e}", path.display()).into()
+/// An I/O error on `path`, with the path in it.
+fn io(path: &Path) -> impl Fn(std::io::Error) -> TrainError + '_ {
+    move |e| TrainError::io(path, e)
+}
+
+/// A CSV error on `path` (a bad row, a failed write), with the path in it.
+fn csv_at(path: &Path) -> impl Fn(csv::Error) -> TrainError + '_ {
+    move |source| TrainError::Csv {
+        path: path.to_path_buf(),
+        source,
+    }
 }
 
 impl RunDir {
@@ -38,21 +45,20 @@ impl RunDir {
     /// would leave the old checkpoint for a later `--resume` to continue under the new
     /// config.
     pub fn create(path: &Path, config: &TrainConfig) -> Result<Self, TrainError> {
-        std::fs::create_dir_all(path).map_err(|e| at(path, e))?;
+        std::fs::create_dir_all(path).map_err(io(path))?;
         let dir = Self::lock(path)?;
         if dir.checkpoint_path().exists() {
-            return Err(format!(
+            return Err(TrainError::Busy(format!(
                 "{} already holds a run (checkpoint.safetensors): continue it with --resume, \
                  or choose another --out",
                 path.display()
-            )
-            .into());
+            )));
         }
         dir.remove_stale_temporaries()?;
         let config_path = path.join("config.toml");
-        std::fs::write(&config_path, toml::to_string(config)?).map_err(|e| at(&config_path, e))?;
+        std::fs::write(&config_path, toml::to_string(config)?).map_err(io(&config_path))?;
         let metrics = dir.metrics_path();
-        File::create(&metrics).map_err(|e| at(&metrics, e))?;
+        File::create(&metrics).map_err(io(&metrics))?;
         Ok(dir)
     }
 
@@ -61,10 +67,11 @@ impl RunDir {
     pub fn open(path: &Path) -> Result<Self, TrainError> {
         let checkpoint = path.join(CHECKPOINT);
         if !checkpoint.is_file() {
-            return Err(at(
-                &checkpoint,
+            let missing = std::io::Error::new(
+                std::io::ErrorKind::NotFound,
                 "no such checkpoint: nothing to resume here",
-            ));
+            );
+            return Err(TrainError::io(checkpoint, missing));
         }
         Self::lock(path)
     }
@@ -79,7 +86,7 @@ impl RunDir {
             .create(true)
             .truncate(false)
             .open(&lock_path)
-            .map_err(|e| at(&lock_path, e))?;
+            .map_err(io(&lock_path))?;
         let held = match lock.try_lock() {
             Ok(()) => true,
             Err(TryLockError::WouldBlock) => {
@@ -89,13 +96,12 @@ impl RunDir {
                     "" => "another process".to_string(),
                     pid => format!("process {pid}"),
                 };
-                return Err(format!(
+                return Err(TrainError::Busy(format!(
                     "{} is being trained by {holder} (it holds {}); wait for it to end, or \
                      stop it, before training this run",
                     path.display(),
                     lock_path.display()
-                )
-                .into());
+                )));
             }
             // Some cluster filesystems are mounted without locks: train unguarded, and
             // say so, rather than refuse every run there.
@@ -107,7 +113,7 @@ impl RunDir {
                 );
                 false
             }
-            Err(TryLockError::Error(e)) => return Err(at(&lock_path, e)),
+            Err(TryLockError::Error(e)) => return Err(TrainError::io(lock_path, e)),
         };
         if held {
             // The holder's pid, for the message a second process gets.
@@ -115,7 +121,7 @@ impl RunDir {
             lock.set_len(0)
                 .and_then(|()| lock.rewind())
                 .and_then(|()| writeln!(lock, "{pid}"))
-                .map_err(|e| at(&lock_path, e))?;
+                .map_err(io(&lock_path))?;
         }
         Ok(Self {
             path: path.to_path_buf(),
@@ -132,7 +138,7 @@ impl RunDir {
         for entry in entries.flatten() {
             let name = entry.file_name();
             if name.to_string_lossy().starts_with("checkpoint.tmp.") {
-                std::fs::remove_file(entry.path()).map_err(|e| at(&entry.path(), e))?;
+                std::fs::remove_file(entry.path()).map_err(io(&entry.path()))?;
             }
         }
         Ok(())
@@ -162,23 +168,23 @@ impl RunDir {
             .append(true)
             .create(true)
             .open(&path)
-            .map_err(|e| at(&path, e))?;
-        let empty = file.metadata().map_err(|e| at(&path, e))?.len() == 0;
+            .map_err(io(&path))?;
+        let empty = file.metadata().map_err(io(&path))?.len() == 0;
         let mut writer = csv::WriterBuilder::new()
             .has_headers(empty)
             .from_writer(file);
-        writer.serialize(row).map_err(|e| at(&path, e))?;
-        writer.flush().map_err(|e| at(&path, e))?;
+        writer.serialize(row).map_err(csv_at(&path))?;
+        writer.flush().map_err(io(&path))?;
         Ok(())
     }
 
     /// Every row of `metrics.csv` (an error names the file and the line of a bad row).
     pub fn read_metrics(&self) -> Result<Vec<IterationMetrics>, TrainError> {
         let path = self.metrics_path();
-        let mut reader = csv::Reader::from_path(&path).map_err(|e| at(&path, e))?;
+        let mut reader = csv::Reader::from_path(&path).map_err(csv_at(&path))?;
         reader
             .deserialize()
-            .map(|row| row.map_err(|e| at(&path, e)))
+            .map(|row| row.map_err(csv_at(&path)))
             .collect()
     }
 
@@ -196,36 +202,32 @@ impl RunDir {
             .take_while(|r| r.iteration < iteration)
             .collect();
         if let Some((i, row)) = kept.iter().enumerate().find(|(i, r)| r.iteration != *i) {
-            return Err(at(
-                &path,
-                format!(
-                    "row {} is iteration {}, expected {i}: not the rows of this run",
-                    i + 1,
-                    row.iteration
-                ),
-            ));
+            let refused = format!(
+                "row {} is iteration {}, expected {i}: not the rows of this run",
+                i + 1,
+                row.iteration
+            );
+            return Err(TrainError::Resume(refused).at(path.display()));
         }
         if kept.len() < iteration {
-            return Err(at(
-                &path,
-                format!(
-                    "holds {} iterations, the checkpoint {iteration}: rows are missing",
-                    kept.len()
-                ),
-            ));
+            let refused = format!(
+                "holds {} iterations, the checkpoint {iteration}: rows are missing",
+                kept.len()
+            );
+            return Err(TrainError::Resume(refused).at(path.display()));
         }
         let tmp = path.with_extension(format!("csv.tmp.{}", std::process::id()));
         {
-            let mut writer = csv::Writer::from_path(&tmp).map_err(|e| at(&tmp, e))?;
+            let mut writer = csv::Writer::from_path(&tmp).map_err(csv_at(&tmp))?;
             for row in &kept {
-                writer.serialize(row).map_err(|e| at(&tmp, e))?;
+                writer.serialize(row).map_err(csv_at(&tmp))?;
             }
-            writer.flush().map_err(|e| at(&tmp, e))?;
+            writer.flush().map_err(io(&tmp))?;
         }
         if kept.is_empty() {
-            File::create(&tmp).map_err(|e| at(&tmp, e))?;
+            File::create(&tmp).map_err(io(&tmp))?;
         }
-        std::fs::rename(&tmp, &path).map_err(|e| at(&path, e))?;
+        std::fs::rename(&tmp, &path).map_err(io(&path))?;
         Ok(kept)
     }
 }

@@ -8,6 +8,7 @@
 //! One file per run folder. A resumed run rewrites it from the rows metrics.csv keeps,
 //! then appends: the curves continue without the killed run's duplicate steps.
 
+use crate::error::TrainError;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -96,8 +97,8 @@ fn now() -> f64 {
         .map_or(0.0, |d| d.as_secs_f64())
 }
 
-fn io(path: &Path, e: std::io::Error) -> String {
-    format!("{}: {e}", path.display())
+fn io(path: &Path, e: std::io::Error) -> TrainError {
+    TrainError::io(path, e)
 }
 
 impl EventWriter {
@@ -107,7 +108,7 @@ impl EventWriter {
         dir: &Path,
         config_text: &str,
         rows: &[IterationMetrics],
-    ) -> Result<Self, String> {
+    ) -> Result<Self, TrainError> {
         let name = format!("events.out.tfevents.{:.0}.logo", now());
         let path = dir.join(&name);
         let tmp = dir.join(format!("{name}.tmp.{}", std::process::id()));
@@ -146,7 +147,7 @@ impl EventWriter {
     }
 
     /// Appends `row` and flushes, so that a reader sees it at once.
-    pub fn append(&mut self, row: &IterationMetrics) -> Result<(), String> {
+    pub fn append(&mut self, row: &IterationMetrics) -> Result<(), TrainError> {
         let value = scalars(row)
             .into_iter()
             .map(|(tag, v)| SummaryValue {
@@ -164,7 +165,7 @@ impl EventWriter {
         self.file.flush().map_err(|e| io(&self.path, e))
     }
 
-    fn write(&mut self, event: &Event) -> Result<(), String> {
+    fn write(&mut self, event: &Event) -> Result<(), TrainError> {
         let data = event.encode_to_vec();
         let length = (data.len() as u64).to_le_bytes();
         let mut record = Vec::with_capacity(data.len() + 16);

@@ -179,6 +179,6 @@ fn init_settings_are_checked() {
     ];
     for (config, key) in bad {
         let e = config.validate().unwrap_err();
-        assert!(e.contains(key), "{e}");
+        assert!(e.message().contains(key), "{e}");
     }
 }

@@ -330,14 +330,17 @@ fn a_fisher_fraction_outside_0_1_is_refused_naming_the_key() {
             fisher_fraction: bad,
             ..TrpoConfig::default()
         });
-        let err = config.validate("improvement").unwrap_err();
+        let err = config.validate("improvement").unwrap_err().to_string();
         assert!(err.contains("improvement.fisher_fraction"), "{err}");
     }
     let trpo_with_clip = PolicyUpdateConfig::Trpo(TrpoConfig {
         clip_epsilon: Some(0.2),
         ..TrpoConfig::default()
     });
-    let err = trpo_with_clip.validate("guidance.update").unwrap_err();
+    let err = trpo_with_clip
+        .validate("guidance.update")
+        .unwrap_err()
+        .to_string();
     assert!(
         err.contains("guidance.update.clip_epsilon") && err.contains("clip-in-trpo"),
         "{err}"
@@ -451,7 +454,7 @@ fn a_subsampled_critic_fit_sees_part_of_the_batch() {
     for bad in ["subsample = 0.0", "subsample = 1.5", "subsample = nan"] {
         let config: CriticConfig =
             toml::from_str(&format!("[fit]\nmethod = \"lbfgs\"\n{bad}")).unwrap();
-        let err = config.validate("critic").unwrap_err();
+        let err = config.validate("critic").unwrap_err().to_string();
         assert!(err.contains("critic.fit.subsample"), "{bad}: {err}");
     }
 }

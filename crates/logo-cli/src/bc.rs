@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use burn::tensor::backend::Backend as _;
 use clap::Args;
-use logo_algo::TrainConfig;
 use logo_algo::bc::{self, BcReport, InitConfig};
 use logo_algo::episode::SuccessRule;
+use logo_algo::{Invalid, TrainConfig};
 use logo_data::Demonstrations;
 use logo_envs::EnvConfig;
 use logo_nn::{Checkpoint, CheckpointMeta, Cpu, Engine, Policy, PolicyConfig};
@@ -105,8 +105,9 @@ impl BcJob {
         fit.minibatch = args.minibatch.unwrap_or(fit.minibatch);
         fit.learning_rate = args.learning_rate.unwrap_or(fit.learning_rate);
         fit.learn_std &= !args.fixed_std;
+        // The keys named as this command's flags.
         fit.validate()
-            .map_err(|e| anyhow::anyhow!("{}", e.replace("init.", "--").replace('_', "-")))?;
+            .map_err(|e| Invalid::Value(e.message().replace("init.", "--").replace('_', "-")))?;
         anyhow::ensure!(args.episodes > 0, "--episodes must be at least 1");
         let seed = args.seed.or(config.as_ref().map(|c| c.seed)).unwrap_or(0);
         let hidden = match (&args.hidden, &config) {
@@ -114,7 +115,7 @@ impl BcJob {
             (None, Some(c)) => c.policy_hidden.clone(),
             (None, None) => PolicyConfig::new(1, 1).hidden,
         };
-        logo_algo::validate::check_widths("--hidden", &hidden).map_err(anyhow::Error::msg)?;
+        logo_algo::validate::check_widths("--hidden", &hidden)?;
         let env_id = env.env_id()?;
         let out = args.out.clone().unwrap_or_else(|| {
             PathBuf::from(format!("runs/bc-{env_id}-seed{seed}/policy.safetensors"))
@@ -201,8 +202,7 @@ pub fn clone_on<E: Engine>(engine: &E, job: &BcJob) -> Result<BcOutcome> {
     let policy = Policy::from_module(engine, &module);
     let pairs = (&demos.obs[..], &demos.actions[..]);
     let what = job.demos.display().to_string();
-    let (fitted, report) = bc::clone_policy(engine, &policy, pairs, &job.fit, job.seed, &what)
-        .map_err(anyhow::Error::msg)?;
+    let (fitted, report) = bc::clone_policy(engine, &policy, pairs, &job.fit, job.seed, &what)?;
     let module = fitted.to_module(engine, module);
     let mut meta = CheckpointMeta::new(&spec.id, spec.obs_dim, spec.act_dim, "bc");
     meta.seed = job.seed;

@@ -149,9 +149,7 @@ pub fn load_policy(path: &Path) -> Result<StoredPolicy> {
         Some(_) => {
             let shape = ObservationStats::new(meta.obs_dim).module::<Cpu>(&device);
             let stats = ObservationStats::from_module(&ckpt.apply("observation_norm", shape)?);
-            stats
-                .check()
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+            stats.check().with_context(|| path.display().to_string())?;
             Some(stats)
         }
     };
@@ -172,8 +170,8 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     }
     let policy = load_policy(&args.checkpoint)?;
     let meta = &policy.meta;
-    let history = logo_algo::engine_history(meta)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.checkpoint.display()))?;
+    let history =
+        logo_algo::engine_history(meta).with_context(|| args.checkpoint.display().to_string())?;
     let last = history.last().map(|span| span.engine.as_str());
     let (engine_args, _) = args.engine.or_trained_on(last, EngineArgs::on_cpu);
     let (acting, engine) = engine_args.with(OnEngine(&policy))?;

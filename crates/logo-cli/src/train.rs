@@ -155,7 +155,7 @@ pub fn run(args: &TrainArgs) -> Result<()> {
             }
             config
                 .check_eval_env_dims()
-                .map_err(|e| anyhow::anyhow!("{}: {e}", config_path.display()))?;
+                .with_context(|| config_path.display().to_string())?;
             if args.print_config {
                 let dtype = args.engine.for_config(&config).dtype();
                 print!("{}", config.resolved(dtype).to_toml()?);
@@ -243,9 +243,7 @@ fn train<E: Engine>(engine: E, job: Job, console: &mut dyn Console) -> Result<Pa
     let (mut trainer, out) = open(engine, start, console)?;
     trainer.set_schedule(schedule);
     if tensorboard {
-        trainer
-            .write_tensorboard()
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        trainer.write_tensorboard()?;
     }
     console.say(&start_line(&trainer, &out));
     if let Some(line) = cloning_line(&trainer) {
@@ -258,7 +256,7 @@ fn train<E: Engine>(engine: E, job: Job, console: &mut dyn Console) -> Result<Pa
     let started = std::time::Instant::now();
     let mut made = 0usize;
     while !trainer.done() {
-        let m = trainer.step().map_err(|e| anyhow::anyhow!("{e}"))?;
+        let m = trainer.step()?;
         made += 1;
         if video_every.is_some_and(|n| (m.iteration + 1).is_multiple_of(n)) {
             let line = record_iteration(&trainer, &out, m.iteration + 1)?;
@@ -324,9 +322,7 @@ fn cloning_line<E: Engine>(trainer: &Trainer<E>) -> Option<String> {
 /// Writes the run's checkpoint now (a run stopped early); returns its path.
 fn keep_checkpoint<E: Engine>(trainer: &Trainer<E>, out: &Path) -> Result<PathBuf> {
     let path = out.join(CHECKPOINT);
-    trainer
-        .save_checkpoint(&path)
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    trainer.save_checkpoint(&path)?;
     Ok(path)
 }
 
@@ -338,13 +334,11 @@ fn open<E: Engine>(
 ) -> Result<(Trainer<E>, PathBuf)> {
     match start {
         Start::New(config, out) => {
-            let trainer =
-                Trainer::new(engine, *config, &out).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let trainer = Trainer::new(engine, *config, &out)?;
             Ok((trainer, out))
         }
         Start::Resume(dir, iterations) => {
             let trainer = Trainer::resume(engine, &dir, iterations)
-                .map_err(|e| anyhow::anyhow!("{e}"))
                 .with_context(|| format!("--resume {}", dir.display()))?;
             console.say(&format!(
                 "resuming {} after iteration {}",

@@ -24,7 +24,7 @@ pub fn read_npy(path: &Path) -> Result<NpyArray, DataError> {
         path: path.to_path_buf(),
         reason,
     };
-    check_preamble(&bytes).map_err(err)?;
+    check_preamble(path, &bytes)?;
     let file = npyz::NpyFile::new(&bytes[..]).map_err(|e| err(e.to_string()))?;
     if file.order() == Order::Fortran {
         return Err(err("Fortran-order arrays are not supported".into()));
@@ -70,42 +70,51 @@ pub fn read_npy(path: &Path) -> Result<NpyArray, DataError> {
 
 /// The magic string, the version and the header length the file declares, checked
 /// against the file's size before `npyz` reads (and allocates for) the header.
-fn check_preamble(bytes: &[u8]) -> Result<(), String> {
+fn check_preamble(path: &Path, bytes: &[u8]) -> Result<(), DataError> {
     const MAGIC: &[u8] = b"\x93NUMPY";
+    let err = |reason: String| DataError::Npy {
+        path: path.to_path_buf(),
+        reason,
+    };
     if !bytes.starts_with(MAGIC) {
-        return Err("not a .npy file (no \\x93NUMPY magic string)".into());
+        return Err(err("not a .npy file (no \\x93NUMPY magic string)".into()));
     }
     let (major, minor) = match bytes.get(6..8) {
         Some(&[major, minor]) => (major, minor),
         _ => {
-            return Err(format!(
+            return Err(err(format!(
                 "{} bytes: no version after the magic string",
                 bytes.len()
-            ));
+            )));
         }
     };
     let (length_at, length_bytes) = match major {
         1 => (8, 2),
         2 | 3 => (8, 4),
         _ => {
-            return Err(format!(
+            return Err(err(format!(
                 "format version {major}.{minor}, expected 1.0, 2.0 or 3.0"
-            ));
+            )));
         }
     };
     let field = bytes
         .get(length_at..length_at + length_bytes)
-        .ok_or_else(|| format!("{} bytes: the header length is cut off", bytes.len()))?;
+        .ok_or_else(|| {
+            err(format!(
+                "{} bytes: the header length is cut off",
+                bytes.len()
+            ))
+        })?;
     let header_len = field
         .iter()
         .rev()
         .fold(0u64, |acc, &b| (acc << 8) | u64::from(b));
     let header_end = (length_at + length_bytes) as u64 + header_len;
     if header_end > bytes.len() as u64 {
-        return Err(format!(
+        return Err(err(format!(
             "the header declares {header_len} bytes, past the end of the {}-byte file",
             bytes.len()
-        ));
+        )));
     }
     Ok(())
 }

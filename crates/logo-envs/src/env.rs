@@ -95,6 +95,9 @@ pub enum EnvError {
     NotAtReset(String),
     #[error("invalid option: {0}")]
     InvalidOption(String),
+    /// A saved random stream's position that is not a number.
+    #[error("rng word_pos {0:?} is not an integer")]
+    RngPosition(String),
     /// An external env's own code failed (a Python env raised).
     #[error("{env}: {message}")]
     External { env: String, message: String },
@@ -198,12 +201,12 @@ impl RngState {
         }
     }
 
-    pub fn to_rng(&self) -> Result<rand_chacha::ChaCha8Rng, String> {
+    pub fn to_rng(&self) -> Result<rand_chacha::ChaCha8Rng, EnvError> {
         use rand::SeedableRng;
         let word_pos: u128 = self
             .word_pos
             .parse()
-            .map_err(|_| format!("rng word_pos {:?} is not an integer", self.word_pos))?;
+            .map_err(|_| EnvError::RngPosition(self.word_pos.clone()))?;
         let mut rng = rand_chacha::ChaCha8Rng::from_seed(self.seed);
         rng.set_stream(self.stream);
         rng.set_word_pos(word_pos);

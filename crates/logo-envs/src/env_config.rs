@@ -59,9 +59,20 @@ impl EnvConfig {
 
     /// Whether the id and rule make an env, without loading its model; the message says
     /// what is wrong, for a config's `key`.
-    pub fn validate(&self, key: &str) -> Result<(), String> {
-        self.env_id().map(drop).map_err(|e| format!("{key}: {e}"))
+    pub fn validate(&self, key: &str) -> Result<(), EnvKeyError> {
+        self.env_id().map(drop).map_err(|source| EnvKeyError {
+            key: key.to_string(),
+            source,
+        })
     }
+}
+
+/// An env that a config's `key` names and that cannot be made.
+#[derive(Debug, thiserror::Error)]
+#[error("{key}: {source}")]
+pub struct EnvKeyError {
+    pub key: String,
+    pub source: EnvError,
 }
 
 impl fmt::Display for EnvConfig {

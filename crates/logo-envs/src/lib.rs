@@ -38,7 +38,7 @@ pub use ant::Ant;
 pub use env::{
     Env, EnvError, EnvSpec, ResetPoint, RngState, Step, StepInfo, Version, clip_to_range,
 };
-pub use env_config::EnvConfig;
+pub use env_config::{EnvConfig, EnvKeyError};
 pub use external::{EXTERNAL_PREFIX, EnvMaker, register_external, unregister_external};
 pub use half_cheetah::HalfCheetah;
 pub use hopper::Hopper;
@@ -52,7 +52,7 @@ pub use registry::{
     BASE_ENV_IDS, EnvFactory, EnvOptions, all_env_ids, canonical_id, dense_id, make, sparse_id,
     time_limit,
 };
-pub use sparse::{SPARSE_KINDS, SparseReward, SparseRule};
+pub use sparse::{RuleError, SPARSE_KINDS, SparseReward, SparseRule};
 pub use swimmer::Swimmer;
 pub use vec_env::{VecEnv, VecStep};
 pub use walker2d::Walker2d;

@@ -256,7 +256,8 @@ pub fn sparse_id(dense: &str, rule: SparseRule) -> Result<String, EnvError> {
 
 /// A rule's parameters, and whether the task can pay it (the goal kind needs a target).
 fn check_rule(id: &str, kind: Kind, rule: SparseRule) -> Result<(), EnvError> {
-    rule.validate().map_err(EnvError::InvalidOption)?;
+    rule.validate()
+        .map_err(|e| EnvError::InvalidOption(e.to_string()))?;
     if matches!(rule, SparseRule::Goal { .. }) && !kind.has_goal() {
         return Err(EnvError::InvalidOption(format!(
             "{id}: the goal kind pays for reaching a target, and only Reacher and Pusher have \

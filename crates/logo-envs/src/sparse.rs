@@ -56,31 +56,78 @@ struct RuleTable {
     radius: Option<f64>,
 }
 
+/// What a sparse rule's table or `describe` form can get wrong.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RuleError {
+    #[error("kind {kind:?} needs `{param}`")]
+    Needs {
+        kind: &'static str,
+        param: &'static str,
+    },
+    #[error("kind {kind:?} takes `{param}`, not `{other}`")]
+    Takes {
+        kind: &'static str,
+        param: &'static str,
+        other: &'static str,
+    },
+    #[error("kind {0:?} takes no `threshold` or `radius`")]
+    TakesNone(&'static str),
+    #[error("unknown sparse kind {0:?}; the kinds are {kinds}", kinds = kind_names())]
+    UnknownKind(String),
+    #[error("sparse.{param} must be a positive number of metres, got {value}")]
+    NotPositive { param: &'static str, value: f64 },
+    #[error("{EXPECTED_FORM}")]
+    Unclosed,
+    #[error("unknown sparse kind {0:?}: {EXPECTED_FORM}")]
+    UnknownForm(String),
+    #[error("{what} {value:?} is not a number")]
+    NotANumber { what: &'static str, value: String },
+}
+
+/// The forms [`SparseRule::parse`] reads.
+const EXPECTED_FORM: &str = "expected distance(<metres>), delayed or goal(<metres>)";
+
+fn kind_names() -> String {
+    let known: Vec<&str> = SPARSE_KINDS.iter().map(|k| k.0).collect();
+    known.join(", ")
+}
+
 impl TryFrom<RuleTable> for SparseRule {
-    type Error = String;
-    fn try_from(table: RuleTable) -> Result<Self, String> {
+    type Error = RuleError;
+    fn try_from(table: RuleTable) -> Result<Self, RuleError> {
+        use RuleError::{Needs, Takes, TakesNone};
         let rule = match (table.kind.as_str(), table.threshold, table.radius) {
             ("distance", Some(threshold), None) => Self::Distance { threshold },
-            ("distance", None, _) => return Err("kind \"distance\" needs `threshold`".into()),
+            ("distance", None, _) => {
+                return Err(Needs {
+                    kind: "distance",
+                    param: "threshold",
+                });
+            }
             ("distance", _, Some(_)) => {
-                return Err("kind \"distance\" takes `threshold`, not `radius`".into());
+                return Err(Takes {
+                    kind: "distance",
+                    param: "threshold",
+                    other: "radius",
+                });
             }
             ("delayed", None, None) => Self::Delayed,
-            ("delayed", ..) => {
-                return Err("kind \"delayed\" takes no `threshold` or `radius`".into());
-            }
+            ("delayed", ..) => return Err(TakesNone("delayed")),
             ("goal", None, Some(radius)) => Self::Goal { radius },
-            ("goal", _, None) => return Err("kind \"goal\" needs `radius`".into()),
+            ("goal", _, None) => {
+                return Err(Needs {
+                    kind: "goal",
+                    param: "radius",
+                });
+            }
             ("goal", Some(_), _) => {
-                return Err("kind \"goal\" takes `radius`, not `threshold`".into());
+                return Err(Takes {
+                    kind: "goal",
+                    param: "radius",
+                    other: "threshold",
+                });
             }
-            (kind, ..) => {
-                let known: Vec<&str> = SPARSE_KINDS.iter().map(|k| k.0).collect();
-                return Err(format!(
-                    "unknown sparse kind {kind:?}; the kinds are {}",
-                    known.join(", ")
-                ));
-            }
+            (kind, ..) => return Err(RuleError::UnknownKind(kind.to_string())),
         };
         rule.validate()?;
         Ok(rule)
@@ -104,15 +151,15 @@ impl From<SparseRule> for RuleTable {
 
 impl SparseRule {
     /// What a file can get wrong that serde cannot see.
-    pub fn validate(&self) -> Result<(), String> {
-        match *self {
-            Self::Distance { threshold } if !(threshold.is_finite() && threshold > 0.0) => Err(
-                format!("sparse.threshold must be a positive number of metres, got {threshold}"),
-            ),
-            Self::Goal { radius } if !(radius.is_finite() && radius > 0.0) => Err(format!(
-                "sparse.radius must be a positive number of metres, got {radius}"
-            )),
-            _ => Ok(()),
+    pub fn validate(&self) -> Result<(), RuleError> {
+        let (param, value) = match *self {
+            Self::Distance { threshold } => ("threshold", threshold),
+            Self::Goal { radius } => ("radius", radius),
+            Self::Delayed => return Ok(()),
+        };
+        match value.is_finite() && value > 0.0 {
+            true => Ok(()),
+            false => Err(RuleError::NotPositive { param, value }),
         }
     }
 
@@ -126,13 +173,13 @@ impl SparseRule {
     }
 
     /// Reads [`SparseRule::describe`]'s form back.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let expected = "expected distance(<metres>), delayed or goal(<metres>)";
-        let metres = |kind: &str, rest: &str| -> Result<f64, String> {
-            let value = rest.strip_suffix(')').ok_or(expected)?;
-            value
-                .parse()
-                .map_err(|_| format!("{kind} {value:?} is not a number"))
+    pub fn parse(text: &str) -> Result<Self, RuleError> {
+        let metres = |what: &'static str, rest: &str| -> Result<f64, RuleError> {
+            let value = rest.strip_suffix(')').ok_or(RuleError::Unclosed)?;
+            value.parse().map_err(|_| RuleError::NotANumber {
+                what,
+                value: value.to_string(),
+            })
         };
         let rule = match text.split_once('(') {
             None if text == "delayed" => Self::Delayed,
@@ -142,7 +189,7 @@ impl SparseRule {
             Some(("goal", rest)) => Self::Goal {
                 radius: metres("goal radius", rest)?,
             },
-            _ => return Err(format!("unknown sparse kind {text:?}: {expected}")),
+            _ => return Err(RuleError::UnknownForm(text.to_string())),
         };
         rule.validate()?;
         Ok(rule)

@@ -1,6 +1,8 @@
 //! Behaviour of the env API beyond the Gymnasium formulas (those are in parity.rs).
 
-use logo_envs::{Env, EnvConfig, EnvError, EnvFactory, EnvOptions, SparseRule, VecEnv, make};
+use logo_envs::{
+    Env, EnvConfig, EnvError, EnvFactory, EnvOptions, RuleError, SparseRule, VecEnv, make,
+};
 
 /// A deterministic, seed-free action stream in [-1, 1] for copy `env` at step `t`.
 fn action(env: usize, t: usize, dim: usize) -> Vec<f64> {
@@ -382,16 +384,22 @@ fn env_config_from_toml() {
     }
     let aliased = read("[env]\nid = \"SparseHopper-v4\"\nsparse = { kind = \"delayed\" }").unwrap();
     let err = aliased.validate("env").unwrap_err();
+    // The key and the env's own error, each as a value a caller can act on.
+    assert!(
+        err.key == "env" && matches!(err.source, EnvError::InvalidOption(_)),
+        "{err:?}"
+    );
+    let err = err.to_string();
     assert!(
         err.starts_with("env: ") && err.contains("already sparse"),
         "{err}"
     );
+    let unknown = EnvConfig::named("Ant-v3").validate("eval_env").unwrap_err();
     assert!(
-        EnvConfig::named("Ant-v3")
-            .validate("eval_env")
-            .unwrap_err()
-            .contains("unknown environment id")
+        matches!(unknown.source, EnvError::UnknownId(..)),
+        "{unknown:?}"
     );
+    assert!(unknown.to_string().contains("unknown environment id"));
     // The goal kind: a radius, on a task with a target only.
     let reacher =
         read("[env]\nid = \"Reacher-v5\"\nsparse = { kind = \"goal\", radius = 0.02 }").unwrap();
@@ -418,17 +426,22 @@ fn env_config_from_toml() {
     }
     let no_target = EnvConfig::named("Hopper-v4+goal(0.1)")
         .validate("env")
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
     assert!(no_target.contains("only Reacher and Pusher"), "{no_target}");
     // LOGO made four tasks sparse; the others take a kind, and Pusher-v4 has no oracle.
     let no_logo = EnvConfig::named("SparseAnt-v4")
         .validate("env")
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
     assert!(
         no_logo.contains("no sparse version of Ant") && no_logo.contains("Ant-v4+distance"),
         "{no_logo}"
     );
-    let pusher = EnvConfig::named("Pusher-v4").validate("env").unwrap_err();
+    let pusher = EnvConfig::named("Pusher-v4")
+        .validate("env")
+        .unwrap_err()
+        .to_string();
     assert!(pusher.contains("Pusher-v5"), "{pusher}");
     EnvConfig::named("Ant-v4+distance(5)")
         .validate("env")
@@ -532,4 +545,31 @@ fn reset_noise_has_gymnasiums_scale() {
             assert!(widest_qvel >= scale / 2.0, "{id}: qvel noise {widest_qvel}");
         }
     }
+}
+
+/// A sparse rule's mistakes come back as values a caller can match, with their words.
+#[test]
+fn a_sparse_rules_mistakes_are_typed() {
+    let not_a_number = RuleError::NotANumber {
+        what: "distance threshold",
+        value: "x".into(),
+    };
+    assert_eq!(SparseRule::parse("distance(x)"), Err(not_a_number.clone()));
+    assert_eq!(
+        not_a_number.to_string(),
+        "distance threshold \"x\" is not a number"
+    );
+    assert_eq!(
+        SparseRule::parse("goal(-1)"),
+        Err(RuleError::NotPositive {
+            param: "radius",
+            value: -1.0
+        })
+    );
+    assert_eq!(SparseRule::parse("goal(1"), Err(RuleError::Unclosed));
+    assert_eq!(
+        SparseRule::parse("walk"),
+        Err(RuleError::UnknownForm("walk".into()))
+    );
+    assert_eq!(SparseRule::parse("delayed"), Ok(SparseRule::Delayed));
 }

@@ -165,7 +165,7 @@ fn write_configs(args: &CompareArgs, base: &TrainConfig, out: &Path) -> Result<V
     let mut configs = Vec::new();
     for name in &args.algorithms {
         let config = configure(base, name)
-            .map_err(|e| anyhow::anyhow!("{}: as {name}: {e}", args.config.display()))?;
+            .with_context(|| format!("{}: as {name}", args.config.display()))?;
         let path = configs_dir.join(format!("{name}.toml"));
         let text = format!(
             "# {name}, made by `logo compare` from {}\n{}",

@@ -55,12 +55,16 @@ impl CheckpointMeta {
 /// The metadata's sizes build networks before their tensors are read: each must be at
 /// least 1, and every weight matrix they imply must fit in the `held` numbers the file
 /// actually stores (so a corrupted size is refused before anything is allocated for it).
-fn check_sizes(meta: &CheckpointMeta, held: usize) -> Result<(), String> {
+fn check_sizes(path: &Path, meta: &CheckpointMeta, held: usize) -> Result<(), CheckpointError> {
+    let refused = |reason: String| CheckpointError::Meta {
+        path: path.to_path_buf(),
+        reason,
+    };
     for (key, value) in [("obs_dim", meta.obs_dim), ("act_dim", meta.act_dim)] {
         if value == 0 || value > held {
-            return Err(format!(
+            return Err(refused(format!(
                 "{key} = {value}, expected 1..={held} (the numbers this file holds)"
-            ));
+            )));
         }
     }
     for (name, hidden) in &meta.networks {
@@ -73,9 +77,9 @@ fn check_sizes(meta: &CheckpointMeta, held: usize) -> Result<(), String> {
                 .windows(2)
                 .all(|w| w[0].checked_mul(w[1]).is_some_and(|n| n <= held));
         if !fits {
-            return Err(format!(
+            return Err(refused(format!(
                 "networks.{name}: hidden sizes {hidden:?} do not fit the {held} numbers this file holds"
-            ));
+            )));
         }
     }
     Ok(())
@@ -382,7 +386,7 @@ impl Checkpoint {
             tensors.insert(name, (view.shape().to_vec(), values));
         }
         let held: usize = tensors.values().map(|(_, v)| v.len()).sum();
-        check_sizes(&meta, held).map_err(meta_err)?;
+        check_sizes(path, &meta, held)?;
         Ok(Self {
             meta,
             tensors,

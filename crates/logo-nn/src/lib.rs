@@ -32,7 +32,7 @@ pub use discriminator::{Discriminator, DiscriminatorConfig, DiscriminatorInit};
 pub use engine::{BurnEngine, Engine, Kernels};
 pub use fisher::{FisherKind, FisherOperator, conjugate_gradient};
 pub use mlp::{Mlp, MlpConfig};
-pub use observation_norm::{ObservationNorm, ObservationStats};
+pub use observation_norm::{DamagedStats, ObservationNorm, ObservationStats};
 pub use policy::{ActingPolicy, GaussianPolicy, Policy, PolicyConfig};
 pub use torch_import::{ImportError, load_reference_policy};
 

@@ -94,15 +94,11 @@ impl ObservationStats {
     }
 
     /// Every value finite, the variances non-negative (a damaged checkpoint's may not be).
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), DamagedStats> {
         let finite = self.count.is_finite() && self.count >= 0.0;
         let values = self.mean.iter().chain(&self.var).all(|v| v.is_finite());
         if !(finite && values && self.var.iter().all(|v| *v >= 0.0)) {
-            return Err(format!(
-                "observation_norm: expected a count ≥ 0, finite means and variances ≥ 0; got \
-                 count {}, mean {:?}, var {:?}",
-                self.count, self.mean, self.var
-            ));
+            return Err(DamagedStats(self.clone()));
         }
         Ok(())
     }
@@ -179,3 +175,14 @@ mod tests {
         assert_eq!(rows[1], 10.0);
     }
 }
+
+/// Statistics [`ObservationStats::check`] refuses (read from a damaged checkpoint).
+#[derive(Debug, Clone, thiserror::Error)]
+#[error(
+    "observation_norm: expected a count ≥ 0, finite means and variances ≥ 0; got count {}, \
+     mean {:?}, var {:?}",
+    .0.count,
+    .0.mean,
+    .0.var
+)]
+pub struct DamagedStats(pub ObservationStats);

@@ -1,7 +1,9 @@
 //! The Python exception of the Rust side's errors.
 
-use logo_algo::{ConfigError, ConfigErrorKind};
-use logo_envs::EnvError;
+use logo_algo::{ConfigError, ConfigErrorKind, Invalid, TrainError};
+use logo_data::DataError;
+use logo_envs::{EnvError, RuleError};
+use logo_nn::CheckpointError;
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
@@ -47,7 +49,8 @@ impl Kind {
             | EnvError::InvalidOption(_)
             | EnvError::ActionLength { .. }
             | EnvError::NonFiniteAction { .. }
-            | EnvError::StateLength { .. } => Self::Value,
+            | EnvError::StateLength { .. }
+            | EnvError::RngPosition(_) => Self::Value,
             EnvError::ModelLoad { .. }
             | EnvError::NeedsReset { .. }
             | EnvError::NotAtReset(_)
@@ -55,11 +58,46 @@ impl Kind {
         }
     }
 
-    /// The kind of the first error in a chain that says one: a missing file, a config's
-    /// mistake, an env's.
+    /// A missing file is a missing file; a value a check refuses, a file whose contents
+    /// are wrong (a demonstrations file, a checkpoint, its resume state) are bad values;
+    /// a busy run folder, a step that left NaN, a failed write are LogoError itself.
+    fn of_train(e: &TrainError) -> Self {
+        let missing = |e: &std::io::Error| match e.kind() {
+            std::io::ErrorKind::NotFound => Self::NotFound,
+            _ => Self::Other,
+        };
+        match e.cause() {
+            TrainError::Config(e) => Self::of_config(e.kind),
+            TrainError::Env(e) => Self::of_env(e),
+            TrainError::EnvKey(e) => Self::of_env(&e.source),
+            TrainError::Io { source, .. }
+            | TrainError::Data(DataError::Io { source, .. })
+            | TrainError::Checkpoint(CheckpointError::Io { source, .. }) => missing(source),
+            TrainError::Invalid(Invalid::Missing(_)) => Self::NotFound,
+            TrainError::Invalid(Invalid::Value(_))
+            | TrainError::Resume(_)
+            | TrainError::Data(_)
+            | TrainError::Checkpoint(_)
+            | TrainError::Import(_)
+            | TrainError::Stats(_)
+            | TrainError::Csv { .. } => Self::Value,
+            TrainError::Toml(_)
+            | TrainError::Json(_)
+            | TrainError::Threads { .. }
+            | TrainError::Busy(_)
+            | TrainError::NonFinite(_) => Self::Other,
+            // `cause()` has looked through these to what went wrong.
+            TrainError::At { .. } | TrainError::Stopped { .. } => Self::Other,
+        }
+    }
+
+    /// The kind of the first error in a chain that says one: a run's error by its
+    /// variant, a missing file, a config's mistake, an env's, a value refused.
     fn of_chain<'a>(chain: impl Iterator<Item = &'a (dyn std::error::Error + 'static)>) -> Self {
         for cause in chain {
-            if let Some(e) = cause.downcast_ref::<std::io::Error>() {
+            if let Some(e) = cause.downcast_ref::<TrainError>() {
+                return Self::of_train(e);
+            } else if let Some(e) = cause.downcast_ref::<std::io::Error>() {
                 if e.kind() == std::io::ErrorKind::NotFound {
                     return Self::NotFound;
                 }
@@ -67,6 +105,10 @@ impl Kind {
                 return Self::of_config(e.kind);
             } else if let Some(e) = cause.downcast_ref::<EnvError>() {
                 return Self::of_env(e);
+            } else if let Some(Invalid::Missing(_)) = cause.downcast_ref::<Invalid>() {
+                return Self::NotFound;
+            } else if cause.is::<Invalid>() || cause.is::<RuleError>() {
+                return Self::Value;
             }
         }
         Self::Other

@@ -274,9 +274,11 @@ pub fn bc(
         learning_rate,
         learn_std,
     };
+    // The keys named as this function's keyword arguments.
     fit.validate()
-        .map_err(|e| PyValueError::new_err(e.replace("init.", "")))?;
-    logo_algo::validate::check_widths("hidden", &hidden).map_err(PyValueError::new_err)?;
+        .map_err(|e| raised(Kind::Value, e.message().replace("init.", "")))?;
+    logo_algo::validate::check_widths("hidden", &hidden)
+        .map_err(|e| raised(Kind::Value, e.to_string()))?;
     if episodes == 0 {
         return Err(PyValueError::new_err("episodes must be at least 1"));
     }

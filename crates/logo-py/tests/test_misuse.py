@@ -81,6 +81,10 @@ def test_errors_from_python_name_keyword_arguments_not_flags(tmp_path):
 
 def test_errors_are_typed_python_exceptions_under_logo_error(tmp_path):
     """Each kind of mistake is the exception Python code raises for it, and a LogoError."""
+    empty, damaged = tmp_path / "empty", tmp_path / "damaged"
+    empty.mkdir()
+    damaged.mkdir()
+    (damaged / "checkpoint.safetensors").write_bytes(b"not a checkpoint")
     cases = [
         # A config file that is not there.
         (FileNotFoundError, logo_rl.LogoFileNotFoundError, "nothing.toml",
@@ -101,6 +105,12 @@ def test_errors_are_typed_python_exceptions_under_logo_error(tmp_path):
          lambda: logo_rl.load(tmp_path / "missing.safetensors")),
         (ValueError, logo_rl.LogoValueError, "unknown environment id",
          lambda: logo_rl.LogoEnv("Hopper-v9")),
+        # The trainer's own: a run folder with nothing to resume is a missing file; a
+        # checkpoint that is not one is a bad value.
+        (FileNotFoundError, logo_rl.LogoFileNotFoundError, "no such checkpoint",
+         lambda: logo_rl.train(resume=empty, progress=False)),
+        (ValueError, logo_rl.LogoValueError, "not a safetensors file",
+         lambda: logo_rl.train(resume=damaged, progress=False)),
     ]
     for python_kind, logo_kind, words, call in cases:
         with pytest.raises(python_kind, match=words) as raised:

@@ -30,6 +30,7 @@ pub use ppo_penalty::PpoPenaltyConfig;
 pub use stats::{StopReason, UpdateState, UpdateStats};
 pub use trpo::{TrpoConfig, fisher_rows};
 
+use crate::error::Invalid;
 use logo_nn::{Engine, Policy};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -99,13 +100,14 @@ impl PolicyUpdateConfig {
     }
 
     /// What a config file cannot be trusted to hold; `table` names where it is.
-    pub fn validate(&self, table: &str) -> Result<(), String> {
+    pub fn validate(&self, table: &str) -> Result<(), Invalid> {
         match self {
             Self::Trpo(config) => {
                 if config.clip_epsilon.is_some() {
                     return Err(format!(
                         "{table}.clip_epsilon belongs to kind \"clip-in-trpo\", not \"trpo\""
-                    ));
+                    )
+                    .into());
                 }
                 config.validate(table)
             }

@@ -4,6 +4,7 @@
 //! step improves the surrogate. With `[demonstration_rows]` (DAPG) the batch carries the
 //! demonstrations as extra rows: they shape g, while F stays the policy's own.
 
+use crate::error::Invalid;
 use logo_nn::flat::dot;
 use logo_nn::{Engine, FisherKind, Policy};
 use serde::{Deserialize, Serialize};
@@ -55,7 +56,7 @@ impl NpgConfig {
         }
     }
 
-    pub fn validate(&self, table: &str) -> Result<(), String> {
+    pub fn validate(&self, table: &str) -> Result<(), Invalid> {
         check_fraction(&format!("{table}.fisher_fraction"), self.fisher_fraction)?;
         check_positive(&format!("{table}.damping"), self.damping, true)?;
         check_count(&format!("{table}.cg_iters"), self.cg_iters, 10_000)

@@ -8,6 +8,7 @@
 //! gradient-norm clip 0.5 and the stop at 1.5·target of Stable-Baselines3's PPO
 //! (`max_grad_norm`, `target_kl`).
 
+use crate::error::Invalid;
 use logo_nn::{Engine, Policy};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -45,7 +46,7 @@ impl Default for PpoClipConfig {
 }
 
 impl PpoClipConfig {
-    pub fn validate(&self, table: &str) -> Result<(), String> {
+    pub fn validate(&self, table: &str) -> Result<(), Invalid> {
         check_clip(&format!("{table}.clip_epsilon"), self.clip_epsilon)?;
         check_positive(&format!("{table}.kl_stop"), self.kl_stop, false)?;
         check_positive(&format!("{table}.learning_rate"), self.learning_rate, false)?;
@@ -55,7 +56,7 @@ impl PpoClipConfig {
 }
 
 /// `epochs` (1..=10,000) and `minibatch` (1..=the largest batch) of a first-order kind.
-pub(super) fn check_counts(table: &str, epochs: usize, minibatch: usize) -> Result<(), String> {
+pub(super) fn check_counts(table: &str, epochs: usize, minibatch: usize) -> Result<(), Invalid> {
     check_count(&format!("{table}.epochs"), epochs, 10_000)?;
     check_count(
         &format!("{table}.minibatch"),

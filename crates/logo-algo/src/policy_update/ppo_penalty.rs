@@ -8,6 +8,7 @@
 //! Schulman et al. 2017 §4); epochs, minibatch, learning rate and gradient clip as
 //! `ppo-clip`'s.
 
+use crate::error::Invalid;
 use logo_nn::{Engine, Policy};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -51,7 +52,7 @@ impl Default for PpoPenaltyConfig {
 }
 
 impl PpoPenaltyConfig {
-    pub fn validate(&self, table: &str) -> Result<(), String> {
+    pub fn validate(&self, table: &str) -> Result<(), Invalid> {
         for (key, value) in [
             ("beta_init", self.beta_init),
             ("learning_rate", self.learning_rate),
@@ -64,13 +65,15 @@ impl PpoPenaltyConfig {
             return Err(format!(
                 "{table}.beta_factor must be a finite number > 1, got {}",
                 self.beta_factor
-            ));
+            )
+            .into());
         }
         if !(self.kl_high >= self.kl_low && self.kl_high.is_finite()) {
             return Err(format!(
                 "{table}.kl_high must be finite and >= kl_low ({}), got {}",
                 self.kl_low, self.kl_high
-            ));
+            )
+            .into());
         }
         check_counts(table, self.epochs, self.minibatch)
     }

@@ -3,6 +3,7 @@
 //! s·√(2δ / sᵀFs), backtracking over fractions 0.5^i (i < 10) until actual / expected
 //! improvement > 0.1, else no step.
 
+use crate::error::Invalid;
 use logo_nn::flat::dot;
 use logo_nn::{Engine, FisherKind, FisherOperator, Policy, conjugate_gradient};
 use serde::{Deserialize, Serialize};
@@ -53,7 +54,7 @@ impl Default for TrpoConfig {
 }
 
 impl TrpoConfig {
-    pub fn validate(&self, table: &str) -> Result<(), String> {
+    pub fn validate(&self, table: &str) -> Result<(), Invalid> {
         check_fraction(&format!("{table}.fisher_fraction"), self.fisher_fraction)?;
         check_positive(&format!("{table}.damping"), self.damping, true)?;
         check_positive(&format!("{table}.accept_ratio"), self.accept_ratio, true)?;

@@ -33,10 +33,10 @@ use super::recorder::Stopwatch;
 use super::resources::{Collected, Resources};
 use crate::config::{DecaySignal, TrainConfig};
 use crate::episode::Evaluation;
+use crate::error::{Invalid, TrainError};
 use crate::guidance::{Guidance, GuidanceReward};
 use crate::metrics::IterationMetrics;
 use crate::policy_update::{StepBatch, StopReason, UpdateState, UpdateStats};
-use crate::run_dir::TrainError;
 use crate::sampler::Batch;
 use crate::streams::{Stream, generator};
 
@@ -303,10 +303,12 @@ fn decay_signal(config: &TrainConfig, batch: &Batch) -> Result<f64, TrainError> 
         return Ok(batch.mean_return());
     }
     batch.success_rate(config.success).ok_or_else(|| {
-        "guidance.decay_on = \"success\": no episode of the batch reported reaching its goal \
-         or not (the task defines no success); set success = \"terminated\" for a task \
-         that ends at its goal, or report info[\"is_success\"]"
-            .into()
+        Invalid::new(
+            "guidance.decay_on = \"success\": no episode of the batch reported reaching its \
+             goal or not (the task defines no success); set success = \"terminated\" for a \
+             task that ends at its goal, or report info[\"is_success\"]",
+        )
+        .into()
     })
 }
 
@@ -341,7 +343,9 @@ pub(super) fn finite(ok: bool, step: &str, what: &str) -> Result<(), TrainError>
     if ok {
         Ok(())
     } else {
-        Err(format!("{step} produced a non-finite number (NaN or ±inf) in the {what}").into())
+        Err(TrainError::NonFinite(format!(
+            "{step} produced a non-finite number (NaN or ±inf) in the {what}"
+        )))
     }
 }
 

@@ -14,10 +14,10 @@ use super::learner_state::{
 use crate::config::{GuidanceConfig, TrainConfig};
 use crate::critic::CriticSet;
 use crate::discriminator::DiscriminatorTrainer;
+use crate::error::{Invalid, TrainError};
 use crate::gae::{GaeInput, gae, normalise};
 use crate::guidance::{Guidance, GuidanceSignal};
 use crate::policy_update::UpdateState;
-use crate::run_dir::TrainError;
 use crate::sampler::Batch;
 use crate::streams::{Stream, generator};
 
@@ -207,14 +207,14 @@ pub(super) fn check_dims(
     networks: &Networks,
     obs_dim: usize,
     act_dim: usize,
-) -> Result<(), String> {
+) -> Result<(), Invalid> {
     let policy = &networks.policy;
     if (policy.obs_dim(), policy.act_dim()) != (obs_dim, act_dim) {
-        return Err(format!(
+        return Err(Invalid::Value(format!(
             "the policy's obs/action dims are ({}, {}), the env's ({obs_dim}, {act_dim})",
             policy.obs_dim(),
             policy.act_dim()
-        ));
+        )));
     }
     Ok(())
 }

@@ -24,8 +24,8 @@ use crate::adam::Adam;
 use crate::config::{GuidanceConfig, TrainConfig};
 use crate::critic::CriticConfig;
 use crate::delta_schedule::DeltaSchedule;
+use crate::error::{At, Invalid, TrainError};
 use crate::policy_update::UpdateState;
-use crate::run_dir::TrainError;
 
 /// Everything a run has learned and counted: see the module's doc.
 pub struct LearnerState {
@@ -152,18 +152,19 @@ impl LearnerState {
     /// if given), checked against each other and against the networks it holds.
     pub fn load(path: &Path, iterations: Option<usize>) -> Result<(TrainConfig, Self), TrainError> {
         let ckpt = Checkpoint::load(path)?;
-        let bad = |what: String| -> TrainError { format!("{}: {what}", path.display()).into() };
-        let (config, learned) = read_record(path, &ckpt, iterations).map_err(bad)?;
+        let (config, learned) = read_record(path, &ckpt, iterations).at(path.display())?;
         let meta = &ckpt.meta;
         let networks = ckpt.apply("", Networks::init(&config, meta.obs_dim, meta.act_dim)?)?;
         let state = Self {
             networks,
             learned,
-            engines: engine_history(meta).map_err(bad)?,
+            engines: engine_history(meta).at(path.display())?,
         };
-        state.check_optimisers().map_err(bad)?;
+        state.check_optimisers().at(path.display())?;
         if let Some(norm) = &state.networks.observation_norm {
-            ObservationStats::from_module(norm).check().map_err(bad)?;
+            ObservationStats::from_module(norm)
+                .check()
+                .at(path.display())?;
         }
         Ok((config, state))
     }
@@ -201,7 +202,7 @@ impl LearnerState {
 
     /// Every optimiser state must fit the network it steps (a damaged or hand-edited
     /// checkpoint can get that wrong).
-    fn check_optimisers(&self) -> Result<(), String> {
+    fn check_optimisers(&self) -> Result<(), TrainError> {
         let (networks, learned) = (&self.networks, &self.learned);
         let policy_len = networks.policy.num_params();
         let mut adams = vec![("improvement.adam", &learned.improvement.adam, policy_len)];
@@ -211,11 +212,11 @@ impl LearnerState {
         }
         for (name, set, nets) in sets {
             if set.len() != nets.len() {
-                return Err(format!(
+                return Err(TrainError::Resume(format!(
                     "resume state {name}: {} Adam states for {} critics",
                     set.len(),
                     nets.len()
-                ));
+                )));
             }
             for (adam, net) in set.iter().zip(nets) {
                 adams.push((name, adam, net.num_params()));
@@ -228,8 +229,7 @@ impl LearnerState {
             }
         }
         for (name, adam, len) in adams {
-            adam.check(len)
-                .map_err(|e| format!("resume state {name}: {e}"))?;
+            adam.check(len).at(format!("resume state {name}"))?;
         }
         Ok(())
     }
@@ -255,13 +255,13 @@ fn read_record(
     path: &Path,
     ckpt: &Checkpoint,
     iterations: Option<usize>,
-) -> Result<(TrainConfig, Learned), String> {
+) -> Result<(TrainConfig, Learned), TrainError> {
     let extra = &ckpt.meta.extra;
     let mut config: TrainConfig = serde_json::from_value(extra["config"].clone())
-        .map_err(|e| format!("metadata config: {e}"))?;
+        .map_err(|e| TrainError::Resume(format!("metadata config: {e}")))?;
     let learned = migrate(&extra["resume"], &config)?;
     if learned.sampler.is_none() {
-        return Err(NO_RESUME_STATE.into());
+        return Err(TrainError::Resume(NO_RESUME_STATE.into()));
     }
     // A run copied from another clone names files by that clone's absolute paths: they
     // are looked for under the working folder, then under each folder above the run's
@@ -278,9 +278,7 @@ fn read_record(
     if let Some(n) = iterations {
         config.iterations = n;
     }
-    config
-        .validate()
-        .map_err(|e| format!("metadata config: {e}"))?;
+    config.validate().at("metadata config")?;
     check_config_against_meta(&ckpt.meta, &config, &learned)?;
     learned.check(&config)?;
     Ok((config, learned))
@@ -292,10 +290,10 @@ const NO_RESUME_STATE: &str = "holds no resume state (runs with rollout = \"step
 
 /// A checkpoint's `resume` field, in any format it has had, as today's [`Learned`].
 /// Where the format moves on, the step from the last one goes here.
-fn migrate(resume: &serde_json::Value, config: &TrainConfig) -> Result<Learned, String> {
-    let bad = |e: serde_json::Error| format!("metadata resume state: {e}");
+fn migrate(resume: &serde_json::Value, config: &TrainConfig) -> Result<Learned, TrainError> {
+    let bad = |e: serde_json::Error| TrainError::Resume(format!("metadata resume state: {e}"));
     match resume.get("format").map(serde_json::Value::as_u64) {
-        None if resume.is_null() => Err(NO_RESUME_STATE.into()),
+        None if resume.is_null() => Err(TrainError::Resume(NO_RESUME_STATE.into())),
         // Format 1 was written without its number; one that names it reads the same.
         None | Some(Some(1)) => {
             let one: FormatOne = serde_json::from_value(resume.clone()).map_err(bad)?;
@@ -305,16 +303,16 @@ fn migrate(resume: &serde_json::Value, config: &TrainConfig) -> Result<Learned, 
             let read: Versioned<Learned> = serde_json::from_value(resume.clone()).map_err(bad)?;
             Ok(read.learned)
         }
-        Some(Some(newer)) if newer > Learned::FORMAT => Err(format!(
+        Some(Some(newer)) if newer > Learned::FORMAT => Err(TrainError::Resume(format!(
             "metadata resume state: format {newer} is newer than this logo-rl reads (1 to {}): \
              resume it with the logo-rl that wrote it, or a later one",
             Learned::FORMAT
-        )),
-        Some(_) => Err(format!(
+        ))),
+        Some(_) => Err(TrainError::Resume(format!(
             "metadata resume state: format {} is not a format this logo-rl knows (1 to {})",
             resume["format"],
             Learned::FORMAT
-        )),
+        ))),
     }
 }
 
@@ -349,13 +347,9 @@ fn check_config_against_meta(
     meta: &CheckpointMeta,
     config: &TrainConfig,
     learned: &Learned,
-) -> Result<(), String> {
+) -> Result<(), TrainError> {
     for (what, found, expected) in [
-        (
-            "env",
-            meta.env_id.clone(),
-            config.env.env_id().map_err(|e| e.to_string())?,
-        ),
+        ("env", meta.env_id.clone(), config.env.env_id()?),
         (
             "algorithm",
             meta.algorithm.clone(),
@@ -373,16 +367,16 @@ fn check_config_against_meta(
         ),
     ] {
         if found != expected {
-            return Err(format!(
+            return Err(TrainError::Resume(format!(
                 "the metadata's {what} is {found}, its config says {expected}"
-            ));
+            )));
         }
     }
     if meta.iteration != learned.iteration as u64 {
-        return Err(format!(
+        return Err(TrainError::Resume(format!(
             "the metadata's iteration is {}, its resume state says {}",
             meta.iteration, learned.iteration
-        ));
+        )));
     }
     Ok(())
 }
@@ -393,20 +387,21 @@ impl Learned {
 
     /// Values a damaged or hand-edited checkpoint can get wrong, checked against the
     /// config they will run under.
-    fn check(&self, config: &TrainConfig) -> Result<(), String> {
+    fn check(&self, config: &TrainConfig) -> Result<(), TrainError> {
         if self.samples < self.iteration {
-            return Err(format!(
+            return Err(TrainError::Resume(format!(
                 "resume state: {} samples in {} iterations (each collects at least one)",
                 self.samples, self.iteration
-            ));
+            )));
         }
+        let refused = |what: &str| Err(TrainError::Resume(format!("resume state: {what}")));
         match (&self.guidance, &config.guidance) {
             (Some(learned), Some(g)) => learned
                 .schedule
                 .check(g.schedule().delta)
-                .map_err(|e| format!("resume state schedule: {e}")),
-            (None, Some(_)) => Err("resume state: no δ schedule for the guidance step".into()),
-            (Some(_), None) => Err("resume state: a guidance state, but no [guidance]".into()),
+                .at("resume state schedule"),
+            (None, Some(_)) => refused("no δ schedule for the guidance step"),
+            (Some(_), None) => refused("a guidance state, but no [guidance]"),
             (None, None) => Ok(()),
         }
     }
@@ -415,7 +410,7 @@ impl Learned {
 /// The engine spans recorded in a checkpoint's metadata (older checkpoints name one
 /// engine, or none). A history that is there but malformed (not a list of spans, spans
 /// out of order, one past the checkpoint's iteration) is an error, not a history lost.
-pub fn engine_history(meta: &CheckpointMeta) -> Result<Vec<EngineSpan>, String> {
+pub fn engine_history(meta: &CheckpointMeta) -> Result<Vec<EngineSpan>, TrainError> {
     let extra = &meta.extra;
     if extra.get("engines").is_none_or(|v| v.is_null()) {
         return Ok(extra["engine"]
@@ -429,7 +424,7 @@ pub fn engine_history(meta: &CheckpointMeta) -> Result<Vec<EngineSpan>, String> 
             .unwrap_or_default());
     }
     let spans: Vec<EngineSpan> = serde_json::from_value(extra["engines"].clone())
-        .map_err(|e| format!("metadata engines: {e}"))?;
+        .map_err(|e| TrainError::Resume(format!("metadata engines: {e}")))?;
     let ordered = spans.first().is_none_or(|s| s.from_iteration == 0)
         && spans
             .windows(2)
@@ -438,11 +433,11 @@ pub fn engine_history(meta: &CheckpointMeta) -> Result<Vec<EngineSpan>, String> 
             .iter()
             .all(|s| !s.engine.trim().is_empty() && s.from_iteration as u64 <= meta.iteration);
     if !ordered {
-        return Err(format!(
+        return Err(TrainError::Resume(format!(
             "metadata engines: expected spans from iteration 0 on, in increasing order, none \
              past iteration {} and each naming an engine; got {}",
             meta.iteration, extra["engines"]
-        ));
+        )));
     }
     Ok(spans)
 }
@@ -527,13 +522,13 @@ fn initial_policy(
         _ => checkpoint_policy(path, device)?,
     };
     if (policy.obs_dim(), policy.act_dim()) != (obs_dim, act_dim) {
-        return Err(format!(
+        return Err(Invalid::Value(format!(
             "init_policy {}: obs/action dims ({}, {}) do not match {} ({obs_dim}, {act_dim})",
             path.display(),
             policy.obs_dim(),
             policy.act_dim(),
             config.env,
-        )
+        ))
         .into());
     }
     Ok(policy)
@@ -545,19 +540,19 @@ fn initial_policy(
 fn checkpoint_policy(path: &Path, device: &CpuDevice) -> Result<GaussianPolicy<Cpu>, TrainError> {
     let ckpt = Checkpoint::load(path)?;
     if ckpt.tensor("observation_norm.mean").is_some() {
-        return Err(format!(
+        return Err(Invalid::Value(format!(
             "init_policy {}: this policy acts on standardised observations (its run set \
              normalise_observations), which a new run does not take over; give a policy of \
              raw observations",
             path.display()
-        )
+        ))
         .into());
     }
     let hidden = ckpt.meta.networks.get("policy").ok_or_else(|| {
-        format!(
+        Invalid::Value(format!(
             "init_policy {}: the checkpoint holds no policy network",
             path.display()
-        )
+        ))
     })?;
     let config = PolicyConfig {
         obs_dim: ckpt.meta.obs_dim,
@@ -577,7 +572,8 @@ fn discriminator_module(
 ) -> Result<Discriminator<Cpu>, TrainError> {
     let observe = g.observe.unwrap_or(obs_dim);
     if observe > obs_dim {
-        return Err(format!("guidance.observe must be in 1..={obs_dim}, got {observe}").into());
+        let refused = format!("guidance.observe must be in 1..={obs_dim}, got {observe}");
+        return Err(Invalid::Value(refused).into());
     }
     Ok(DiscriminatorConfig {
         observe,

@@ -32,9 +32,10 @@ use logo_nn::{ActingPolicy, Engine, ObservationStats, Policy};
 
 use crate::bc::{self, BcReport, InitKind};
 use crate::config::TrainConfig;
+pub use crate::error::TrainError;
+use crate::error::{At, Invalid};
 use crate::metrics::IterationMetrics;
 use crate::run_dir::RunDir;
-pub use crate::run_dir::TrainError;
 use learner::{Learner, check_dims};
 pub use learner_state::{EngineSpan, Learned, LearnerState, Networks, engine_history};
 use recorder::Recorder;
@@ -54,7 +55,7 @@ pub struct Trainer<E: Engine> {
 impl<E: Engine> Trainer<E> {
     /// A new run on `engine` writing into `out_dir` (metrics.csv is started afresh).
     pub fn new(engine: E, config: TrainConfig, out_dir: &Path) -> Result<Self, TrainError> {
-        config.validate().map_err(|e| format!("config: {e}"))?;
+        config.validate().at("config")?;
         let run = RunDir::create(out_dir, &config)?;
         let factory = config.env.factory()?;
         let spec = factory.spec();
@@ -63,7 +64,7 @@ impl<E: Engine> Trainer<E> {
         if let Some(report) = &cloned {
             let path = run.path().join("bc.json");
             std::fs::write(&path, serde_json::to_string_pretty(report)?)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+                .map_err(|e| TrainError::io(&path, e))?;
         }
         let mut trainer = Self::assemble(engine, config, run, &factory, state)?;
         trainer.behaviour_cloning = cloned;
@@ -92,9 +93,10 @@ impl<E: Engine> Trainer<E> {
         let mut trainer = Self::assemble(engine, config, run, &factory, state)?;
         // metrics.csv, the clock and the best policy as of the checkpoint.
         let recorder = &mut trainer.recorder;
+        let checkpoint = recorder.checkpoint_path();
         recorder
             .resume(iteration, samples)
-            .map_err(|e| format!("{}: {e}", recorder.checkpoint_path().display()))?;
+            .at(checkpoint.display())?;
         Ok(trainer)
     }
 
@@ -107,21 +109,22 @@ impl<E: Engine> Trainer<E> {
         state: LearnerState,
     ) -> Result<Self, TrainError> {
         let spec = factory.spec();
-        let bad = |what: String| -> TrainError {
-            format!("{}: {what}", run.checkpoint_path().display()).into()
-        };
-        check_dims(&state.networks, spec.obs_dim, spec.act_dim).map_err(bad)?;
+        let checkpoint = run.checkpoint_path();
+        check_dims(&state.networks, spec.obs_dim, spec.act_dim).at(checkpoint.display())?;
         let demos = match config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
             Some(path) => Some(
                 Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim)
-                    .map_err(|e| format!("guidance.demos: {e}"))?,
+                    .at("guidance.demos")?,
             ),
             None => None,
         };
         let learner = Learner::from_state(&engine, &config, &state, demos.as_ref())?;
         let mut resources = Resources::build(engine, &config, factory, state.networks)?;
         if let Some(sampler) = &state.learned.sampler {
-            resources.collector.restore(sampler).map_err(bad)?;
+            resources
+                .collector
+                .restore(sampler)
+                .at(checkpoint.display())?;
         }
         Ok(Self {
             config,
@@ -178,7 +181,7 @@ impl<E: Engine> Trainer<E> {
         let k = self.learner.iteration;
         let pool = Arc::clone(&self.resources.pool);
         pool.install(|| self.iterate())
-            .map_err(|e| format!("iteration {k}: {e}").into())
+            .map_err(|e| e.at(format!("iteration {k}")))
     }
 
     /// The run's state after its latest iteration: what a checkpoint holds.
@@ -228,9 +231,8 @@ fn behaviour_clone<E: Engine>(
     };
     let path = config
         .bc_demos()
-        .ok_or_else(|| format!("{key} is not set"))?;
-    let demos = Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim)
-        .map_err(|e| format!("{key}: {e}"))?;
+        .ok_or_else(|| Invalid::Value(format!("{key} is not set")))?;
+    let demos = Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim).at(key)?;
     let mut obs = demos.obs.clone();
     if let Some(norm) = networks.observation_norm.as_mut() {
         let mut stats = ObservationStats::from_module(norm);

@@ -8,8 +8,8 @@ use super::Trainer;
 use super::iteration::{GuidanceStream, Later, finite};
 use super::learner::CriticFits;
 use crate::episode::Evaluation;
+use crate::error::TrainError;
 use crate::metrics::IterationMetrics;
-use crate::run_dir::TrainError;
 use crate::sampler::Batch;
 
 impl<E: Engine> Trainer<E> {

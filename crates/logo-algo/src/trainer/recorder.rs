@@ -8,8 +8,9 @@ use std::time::Instant;
 
 use logo_nn::Checkpoint;
 
+use crate::error::TrainError;
 use crate::metrics::IterationMetrics;
-use crate::run_dir::{RunDir, TrainError};
+use crate::run_dir::RunDir;
 use crate::tensorboard::EventWriter;
 
 pub(super) struct Recorder {
@@ -113,24 +114,21 @@ impl Recorder {
     /// metrics.csv after it are dropped (they are redone), the clock goes on from the last
     /// row kept, the best return is the kept rows' highest, and a best policy from a
     /// later iteration is removed (the redone iterations write it again if they earn it).
-    pub(super) fn resume(&mut self, iterations: usize, samples: usize) -> Result<(), String> {
+    pub(super) fn resume(&mut self, iterations: usize, samples: usize) -> Result<(), TrainError> {
         self.saved_at = Some(iterations);
         let metrics = self.run.metrics_path();
-        let rows = self.run.read_metrics().map_err(|e| e.to_string())?;
+        let rows = self.run.read_metrics()?;
         if let Some(row) = rows.get(iterations.wrapping_sub(1))
             && row.samples != samples
         {
-            return Err(format!(
+            return Err(TrainError::Resume(format!(
                 "resume state: {samples} samples after iteration {iterations}, but {} says {} \
                  (not this checkpoint's metrics)",
                 metrics.display(),
                 row.samples
-            ));
+            )));
         }
-        let kept = self
-            .run
-            .keep_metrics_before(iterations)
-            .map_err(|e| e.to_string())?;
+        let kept = self.run.keep_metrics_before(iterations)?;
         self.wall_offset = kept.last().map_or(0.0, |row| row.wall_s);
         // Rows from before the column existed have no evaluation return.
         self.best_return = kept
@@ -143,7 +141,7 @@ impl Recorder {
             let later =
                 Checkpoint::load(&best).map_or(true, |b| b.meta.iteration > iterations as u64);
             if later {
-                std::fs::remove_file(&best).map_err(|e| format!("{}: {e}", best.display()))?;
+                std::fs::remove_file(&best).map_err(|e| TrainError::io(&best, e))?;
             }
         }
         Ok(())
@@ -156,7 +154,10 @@ impl Recorder {
             Some(at) => format!("the checkpoint of iteration {at} is kept"),
             None => "no checkpoint had been written yet".to_string(),
         };
-        format!("{e}; the run stopped ({kept} in {})", self.path().display()).into()
+        TrainError::Stopped {
+            source: Box::new(e),
+            kept: format!("{kept} in {}", self.path().display()),
+        }
     }
 }
 

@@ -16,7 +16,7 @@ use super::schedule::Schedule;
 use crate::config::{EvalInitialStates, TrainConfig};
 use crate::dapg::DemonstrationRows;
 use crate::episode::{Evaluation, EvaluationPlan, evaluate, evaluation_seed};
-use crate::run_dir::TrainError;
+use crate::error::TrainError;
 use crate::sampler::{Batch, Sampler};
 use crate::streams;
 
@@ -49,7 +49,10 @@ impl<E: Engine> Resources<E> {
             .num_threads(config.threads)
             .thread_name(|i| format!("logo-{i}"))
             .build()
-            .map_err(|e| format!("cannot start {} worker threads: {e}", config.threads))?;
+            .map_err(|source| TrainError::Threads {
+                threads: config.threads,
+                source,
+            })?;
         let collector = Collector {
             // The copies run on the trainer's pool, as every other phase does.
             venv: VecEnv::on_caller_pool(factory, config.num_envs, config.seed)?,
@@ -111,11 +114,10 @@ impl Collector {
 
     /// The sampler as `state` left it, so that the next batch is the one it would have
     /// collected.
-    pub(super) fn restore(&mut self, state: &SamplerState) -> Result<(), String> {
+    pub(super) fn restore(&mut self, state: &SamplerState) -> Result<(), TrainError> {
         self.rng = state.rng.to_rng()?;
-        self.venv
-            .restore_reset_points(&state.env_points)
-            .map_err(|e| e.to_string())
+        self.venv.restore_reset_points(&state.env_points)?;
+        Ok(())
     }
 
     /// The next batch when `wanted` (not after the last iteration).

@@ -108,15 +108,14 @@ impl WithEngine for Run {
             self.schedule
         ));
         let _ = std::fs::remove_dir_all(&dir);
-        let mut trainer =
-            Trainer::new(engine, self.config, &dir).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let mut trainer = Trainer::new(engine, self.config, &dir)?;
         trainer.set_schedule(self.schedule);
         let engine = trainer.engine().describe();
         flops::enable(true);
         flops::take();
         let (mut rows, mut counts) = (Vec::new(), Vec::new());
         while !trainer.done() {
-            rows.push(trainer.step().map_err(|e| anyhow::anyhow!("{e}"))?);
+            rows.push(trainer.step()?);
             counts.push(flops::take());
         }
         flops::enable(false);
