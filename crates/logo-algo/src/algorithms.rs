@@ -198,11 +198,8 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, Invalid>
             };
         }
         other => {
-            return Err(format!(
-                "unknown algorithm {other:?}: expected one of {}",
-                COMPARABLE.join(", ")
-            )
-            .into());
+            let known = COMPARABLE.join(", ");
+            return Err(format!("unknown algorithm {other:?}: expected one of {known}").into());
         }
     }
     config.validate()?;

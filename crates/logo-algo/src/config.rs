@@ -3,6 +3,7 @@
 //! (on a fresh run and on `--resume`); paths are relative to the config file's folder.
 
 use crate::error::Invalid;
+pub use crate::error::{ConfigError, ConfigErrorKind};
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -274,30 +275,6 @@ pub enum EvalInitialStates {
 
 fn is_true(b: &bool) -> bool {
     *b
-}
-
-/// A config that cannot be used: which file (or `<config dict>`), what kind of mistake,
-/// and the message naming the key.
-#[derive(Debug, thiserror::Error)]
-#[error("{}: {message}", path.display())]
-pub struct ConfigError {
-    pub path: PathBuf,
-    pub kind: ConfigErrorKind,
-    pub message: String,
-}
-
-/// What kind of mistake a [`ConfigError`] is, for callers that act on it: the Python
-/// package raises `FileNotFoundError`, `TypeError` or `ValueError` by it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ConfigErrorKind {
-    /// The config file is not there.
-    NotFound,
-    /// It is there but could not be read (permissions, not UTF-8).
-    Unreadable,
-    /// A value of the wrong type for its key.
-    Type,
-    /// Anything else: not TOML, an unknown or missing key, a value out of its range.
-    Value,
 }
 
 impl ConfigError {

@@ -10,7 +10,29 @@ use logo_data::DataError;
 use logo_envs::{EnvError, EnvKeyError};
 use logo_nn::{CheckpointError, DamagedStats, ImportError};
 
-use crate::config::ConfigError;
+/// A config that cannot be used: which file (or `<config dict>`), what kind of mistake,
+/// and the message naming the key.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {message}", path.display())]
+pub struct ConfigError {
+    pub path: PathBuf,
+    pub kind: ConfigErrorKind,
+    pub message: String,
+}
+
+/// What kind of mistake a [`ConfigError`] is, for callers that act on it: the Python
+/// package raises `FileNotFoundError`, `TypeError` or `ValueError` by it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConfigErrorKind {
+    /// The config file is not there.
+    NotFound,
+    /// It is there but could not be read (permissions, not UTF-8).
+    Unreadable,
+    /// A value of the wrong type for its key.
+    Type,
+    /// Anything else: not TOML, an unknown or missing key, a value out of its range.
+    Value,
+}
 
 /// What a check refuses; the message names the key and what was expected.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
