@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""The suite of sparse tasks not in the LOGO paper: each task's demonstrations, success
+rule and sample budget, fixed here before any run (docs/findings/new-tasks.md).
+
+    .venv/bin/python scripts/experiments/suite.py demos OUT [TASK ...] [--episodes N]
+
+records each task's demonstrations with its scripted demonstrator into OUT/<task>/demos
+(a Minari dataset folder) and prints, over the same number of episodes from the same
+initial states, how often the demonstrator, uniform random actions and the zero action
+reach the goal and what they earn: a task is sparse enough when random actions do not
+find its goal. `--list` prints the tasks.
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import logo_rl
+
+# Reacher's two links (MJCF: the second body 0.1 from the first, the fingertip 0.11
+# further), for the demonstrator's inverse kinematics.
+REACHER_LINKS = (0.1, 0.11)
+
+
+def reacher_controller(kp=1.0, kd=0.05):
+    """Joint-space PD towards the elbow-up inverse-kinematics solution for the target.
+    Observation (Reacher-v5): cos q, sin q, target xy, q̇, fingertip − target xy."""
+    l1, l2 = REACHER_LINKS
+
+    def act(obs):
+        q = np.arctan2(obs[2:4], obs[0:2])
+        tx, ty = obs[4], obs[5]
+        cos_elbow = np.clip((tx * tx + ty * ty - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1, 1)
+        elbow = np.arccos(cos_elbow)
+        shoulder = np.arctan2(ty, tx) - np.arctan2(l2 * np.sin(elbow), l1 + l2 * np.cos(elbow))
+        error = np.array([shoulder, elbow]) - q
+        error = (error + np.pi) % (2 * np.pi) - np.pi
+        return np.clip(kp * error - kd * obs[6:8], -1.0, 1.0)
+
+    return act
+
+
+def mountain_car_controller(obs):
+    """Push the way the car moves (every episode reaches the flag)."""
+    return [1.0 if obs[1] >= 0 else -1.0]
+
+
+def logo_env(env_id, limit):
+    """A logo-rl env under Gymnasium's TimeLimit (what recording and training expect)."""
+    import gymnasium as gym
+
+    return gym.wrappers.TimeLimit(logo_rl.LogoEnv(env_id, max_episode_steps=None), limit)
+
+
+# Each task: the env (a logo-rl id, made sparse by its kind, or a Gymnasium id), the
+# success rule a run counts with, the sample budget per run, the demonstrator and the
+# number of demonstration episodes.
+TASKS = {
+    "reacher-goal": dict(
+        kind="manipulation goal",
+        env=lambda: logo_env("Reacher-v5+goal(0.02)", 50),
+        env_id="Reacher-v5+goal(0.02)",
+        success="task",
+        budget=1_000_000,
+        demonstrator=reacher_controller(),
+        episodes=20,
+    ),
+    "mountain-car": dict(
+        kind="goal with an action cost",
+        env="MountainCarContinuous-v0",
+        env_id="MountainCarContinuous-v0",
+        success="terminated",
+        budget=200_000,
+        demonstrator=mountain_car_controller,
+        episodes=15,
+    ),
+}
+
+
+def play(make, act, episodes, seed):
+    """Returns, steps and whether each episode reached the goal (any step's
+    info["is_success"], or a termination where the env reports none)."""
+    env = make() if callable(make) else __import__("gymnasium").make(make)
+    out = []
+    for k in range(episodes):
+        obs, _ = env.reset(seed=seed + k)
+        total, steps, reached, done = 0.0, 0, False, False
+        while not done:
+            obs, reward, terminated, truncated, info = env.step(np.asarray(act(obs)))
+            total += float(reward)
+            steps += 1
+            reached |= bool(info.get("is_success", terminated))
+            done = terminated or truncated
+        out.append((total, steps, reached))
+    return out
+
+
+def describe(name, results):
+    returns = np.array([r for r, _, _ in results])
+    reached = sum(ok for _, _, ok in results)
+    return (f"  {name:<13} reached the goal in {reached} of {len(results)} episodes; "
+            f"return {returns.mean():.2f} ± {returns.std(ddof=1):.2f}")
+
+
+def demos(out: Path, names, episodes, seed):
+    for name in names:
+        task = TASKS[name]
+        n = episodes or task["episodes"]
+        rng = np.random.default_rng(seed)
+        env = task["env"]() if callable(task["env"]) else None
+        space = env.action_space if env is not None else None
+        if space is None:
+            import gymnasium as gym
+            space = gym.make(task["env"]).action_space
+        random_act = lambda obs: rng.uniform(space.low, space.high)  # noqa: E731
+        zero_act = lambda obs: np.zeros(space.shape)  # noqa: E731
+        print(f"{name} ({task['kind']}): {task['env_id']}, success = {task['success']!r}, "
+              f"budget {task['budget']:,} samples")
+        for who, act in [("demonstrator", task["demonstrator"]), ("random", random_act),
+                         ("zero", zero_act)]:
+            print(describe(who, play(task["env"], act, n, seed)))
+        path = out / name / "demos"
+        recording = logo_rl.record(task["env"], task["demonstrator"], n, path, seed=seed)
+        print(f"  recorded {recording.episodes} episodes, {recording.steps} steps into {path}")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    d = sub.add_parser("demos", help="record each task's demonstrations")
+    d.add_argument("out", type=Path)
+    d.add_argument("tasks", nargs="*", default=list(TASKS))
+    d.add_argument("--episodes", type=int, default=None)
+    d.add_argument("--seed", type=int, default=0)
+    sub.add_parser("list", help="the tasks")
+    args = parser.parse_args(argv)
+    if args.command == "list":
+        for name, task in TASKS.items():
+            print(f"{name}: {task['kind']}, {task['env_id']}, success={task['success']!r}, "
+                  f"budget {task['budget']:,}")
+        return 0
+    unknown = [t for t in args.tasks if t not in TASKS]
+    if unknown:
+        parser.error(f"unknown task(s) {', '.join(unknown)}; the tasks: {', '.join(TASKS)}")
+    demos(args.out, args.tasks, args.episodes, args.seed)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
