@@ -8,16 +8,30 @@ records each task's demonstrations with its scripted demonstrator into OUT/<task
 (a Minari dataset folder) and prints, over the same number of episodes from the same
 initial states, how often the demonstrator, uniform random actions and the zero action
 reach the goal and what they earn: a task is sparse enough when random actions do not
-find its goal. `--list` prints the tasks.
+find its goal.
+
+    .venv/bin/python scripts/experiments/suite.py run OUT [TASK ...] [--seeds 0..5]
+
+trains, on each task of logo-rl's envs, LOGO with the new-task preset and TRPO (the same
+config without its guidance) for the task's budget with `logo sweep` (finished runs are
+skipped, interrupted ones resume), and behaviour cloning (`logo bc`, which evaluates its
+policy), all from the demonstrations in data/suite/<task>/demos. `list` prints the tasks.
 """
 
 import argparse
+import os
+import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import numpy as np
 
 import logo_rl
+
+ROOT = Path(__file__).resolve().parents[2]
+PRESET = ROOT / "configs" / "templates" / "new_task.toml"
+LOGO = os.environ.get("LOGO", str(ROOT / "target" / "release" / "logo"))
 
 # Reacher's two links (MJCF: the second body 0.1 from the first, the fingertip 0.11
 # further), for the demonstrator's inverse kinematics.
@@ -48,10 +62,15 @@ def mountain_car_controller(obs):
 
 
 def logo_env(env_id, limit):
-    """A logo-rl env under Gymnasium's TimeLimit (what recording and training expect)."""
+    """The maker of a logo-rl env under Gymnasium's TimeLimit (what recording expects),
+    named after the env id, which the recorded dataset then names as its env."""
     import gymnasium as gym
 
-    return gym.wrappers.TimeLimit(logo_rl.LogoEnv(env_id, max_episode_steps=None), limit)
+    def make():
+        return gym.wrappers.TimeLimit(logo_rl.LogoEnv(env_id, max_episode_steps=None), limit)
+
+    make.__name__ = env_id
+    return make
 
 
 # Each task: the env (a logo-rl id, made sparse by its kind, or a Gymnasium id), the
@@ -60,7 +79,7 @@ def logo_env(env_id, limit):
 TASKS = {
     "reacher-goal": dict(
         kind="manipulation goal",
-        env=lambda: logo_env("Reacher-v5+goal(0.02)", 50),
+        env=logo_env("Reacher-v5+goal(0.02)", 50),
         env_id="Reacher-v5+goal(0.02)",
         success="task",
         budget=1_000_000,
@@ -126,6 +145,67 @@ def demos(out: Path, names, episodes, seed):
         print(f"  recorded {recording.episodes} episodes, {recording.steps} steps into {path}")
 
 
+def toml_value(value):
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    return repr(value)
+
+
+def configs(out: Path, name: str) -> list[Path]:
+    """The task's LOGO (new-task preset) and TRPO configs, written under out/configs."""
+    task = TASKS[name]
+    preset = tomllib.loads(PRESET.read_text())
+    iterations = task["budget"] // preset["samples_per_iter"]
+    demos = ROOT / "data" / "suite" / name / "demos"
+    if not demos.is_dir():
+        raise SystemExit(f"{demos}: no demonstrations (run `suite.py demos data/suite {name}`)")
+    header = (f"# The suite's {name} ({task['kind']}): configs/templates/new_task.toml with the "
+              f"task's env, demonstrations, success rule and budget (scripts/experiments/suite.py).\n")
+    settings = {"env": task["env_id"], "success": task["success"], "iterations": iterations}
+    top = "".join(f"{k} = {toml_value(v)}\n" for k, v in settings.items())
+    text = PRESET.read_text()
+    kept = [line for line in text.splitlines()
+            if not line.split("=")[0].strip() in ("env", "success", "iterations")]
+    body = "\n".join(kept).replace(
+        'demos = "../../data/logo/hopper"', f"demos = {toml_value(str(demos))}")
+    folder = out / "configs"
+    folder.mkdir(parents=True, exist_ok=True)
+    logo = folder / "logo.toml"
+    logo.write_text(header + top + body + "\n")
+    # TRPO: the same config without its [guidance] table (nor the guidance's comments).
+    cut = body.index("[guidance]")
+    trpo = folder / "trpo.toml"
+    trpo.write_text(header + top + body[:cut].rstrip() + "\n")
+    return [logo, trpo]
+
+
+def run(out: Path, names, seeds: str, iterations: int | None = None):
+    for name in names:
+        task = TASKS[name]
+        if isinstance(task["env"], str):
+            print(f"{name}: a Gymnasium env; its runs go through logo_rl.train "
+                  f"(scripts/experiments/mountaincar.py for MountainCar)")
+            continue
+        folder = out / name
+        logo, trpo = configs(folder, name)
+        env = dict(os.environ, LD_LIBRARY_PATH=str(ROOT / "third_party" / "mujoco" / "lib"))
+        sweep = [LOGO, "sweep", str(logo), str(trpo), "--seeds", seeds, "--jobs", "1",
+                 "--threads", "1", "--out", str(folder / "runs")]
+        if iterations is not None:  # a shorter run than the budget (a smoke test)
+            sweep += ["--iterations", str(iterations)]
+        subprocess.run(sweep, check=True, env=env)
+        first, last = (int(x) for x in seeds.split(".."))
+        for seed in range(first, last):
+            bc = folder / "runs" / "bc" / f"seed{seed}"
+            if (bc / "policy.safetensors").is_file():
+                continue
+            bc.mkdir(parents=True, exist_ok=True)
+            with open(bc / "bc.txt", "w") as log:
+                subprocess.run([LOGO, "bc", "--config", str(logo), "--seed", str(seed),
+                                "--out", str(bc / "policy.safetensors")],
+                               check=True, env=env, stdout=log)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -134,6 +214,12 @@ def main(argv=None):
     d.add_argument("tasks", nargs="*", default=list(TASKS))
     d.add_argument("--episodes", type=int, default=None)
     d.add_argument("--seed", type=int, default=0)
+    r = sub.add_parser("run", help="LOGO, TRPO and BC on each task")
+    r.add_argument("out", type=Path)
+    r.add_argument("tasks", nargs="*", default=list(TASKS))
+    r.add_argument("--seeds", default="0..5")
+    r.add_argument("--iterations", type=int, default=None,
+                   help="fewer iterations than the budget's (a smoke test)")
     sub.add_parser("list", help="the tasks")
     args = parser.parse_args(argv)
     if args.command == "list":
@@ -144,7 +230,10 @@ def main(argv=None):
     unknown = [t for t in args.tasks if t not in TASKS]
     if unknown:
         parser.error(f"unknown task(s) {', '.join(unknown)}; the tasks: {', '.join(TASKS)}")
-    demos(args.out, args.tasks, args.episodes, args.seed)
+    if args.command == "run":
+        run(args.out, args.tasks, args.seeds, args.iterations)
+    else:
+        demos(args.out, args.tasks, args.episodes, args.seed)
     return 0
 
 
