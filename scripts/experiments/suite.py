@@ -56,6 +56,20 @@ def reacher_controller(kp=1.0, kd=0.05):
     return act
 
 
+def trained(checkpoint):
+    """A policy trained here, acting with sampled actions (as its demonstrations were
+    recorded)."""
+    rng = np.random.default_rng(0)
+    policy = []
+
+    def act(obs):
+        if not policy:
+            policy.append(logo_rl.load(ROOT / checkpoint))
+        return policy[0].predict(obs, deterministic=False, rng=rng)
+
+    return act
+
+
 def mountain_car_controller(obs):
     """Push the way the car moves (every episode reaches the flag)."""
     return [1.0 if obs[1] >= 0 else -1.0]
@@ -86,6 +100,33 @@ TASKS = {
         demonstrator=reacher_controller(),
         episodes=20,
     ),
+    # Sparse locomotion: the Ant study's task and demonstrations (docs/findings/new-tasks.md:
+    # a behaviour policy trained here on the dense reward, 20 episodes with sampled actions,
+    # made by scripts/experiments/new_task.sh).
+    "ant-distance": dict(
+        kind="sparse locomotion",
+        env=logo_env("Ant-v4+distance(5)", 1000),
+        env_id="Ant-v4+distance(5)",
+        success="task",
+        budget=2_000_000,
+        demonstrator=trained("docs/results/new-task/ant/behaviour/checkpoint.safetensors"),
+        dataset="docs/results/new-task/ant/demos",
+        episodes=20,
+    ),
+    # A delayed reward: Hopper's dense return paid once, on the episode's last step. The
+    # demonstrations are data/behaviour/hopper-trpo (a dense-reward TRPO policy stopped
+    # at the LOGO demonstrations' return, data/README.md). The task defines no goal, so no
+    # success rate: the runs are read by their return against the demonstrations'.
+    "hopper-delayed": dict(
+        kind="delayed reward",
+        env=logo_env("Hopper-v4+delayed", 1000),
+        env_id="Hopper-v4+delayed",
+        success="none",
+        budget=2_000_000,
+        demonstrator=trained("models/hopper_behaviour_trpo.safetensors"),
+        dataset="data/behaviour/hopper-trpo",
+        episodes=20,
+    ),
     "mountain-car": dict(
         kind="goal with an action cost",
         env="MountainCarContinuous-v0",
@@ -98,9 +139,10 @@ TASKS = {
 }
 
 
-def play(make, act, episodes, seed):
-    """Returns, steps and whether each episode reached the goal (any step's
-    info["is_success"], or a termination where the env reports none)."""
+def play(make, act, episodes, seed, success):
+    """Returns, steps and whether each episode reached the goal by the task's success rule
+    ("task": any step's info["is_success"]; "terminated": the episode ended there;
+    "none": no goal, None)."""
     env = make() if callable(make) else __import__("gymnasium").make(make)
     out = []
     for k in range(episodes):
@@ -110,17 +152,19 @@ def play(make, act, episodes, seed):
             obs, reward, terminated, truncated, info = env.step(np.asarray(act(obs)))
             total += float(reward)
             steps += 1
-            reached |= bool(info.get("is_success", terminated))
+            reached |= bool(info.get("is_success", False) if success == "task" else terminated)
             done = terminated or truncated
-        out.append((total, steps, reached))
+        out.append((total, steps, None if success == "none" else reached))
     return out
 
 
 def describe(name, results):
     returns = np.array([r for r, _, _ in results])
+    earned = f"return {returns.mean():.2f} ± {returns.std(ddof=1):.2f}"
+    if results[0][2] is None:
+        return f"  {name:<13} {earned} over {len(results)} episodes (the task has no goal)"
     reached = sum(ok for _, _, ok in results)
-    return (f"  {name:<13} reached the goal in {reached} of {len(results)} episodes; "
-            f"return {returns.mean():.2f} ± {returns.std(ddof=1):.2f}")
+    return f"  {name:<13} reached the goal in {reached} of {len(results)} episodes; {earned}"
 
 
 def demos(out: Path, names, episodes, seed):
@@ -139,8 +183,15 @@ def demos(out: Path, names, episodes, seed):
               f"budget {task['budget']:,} samples")
         for who, act in [("demonstrator", task["demonstrator"]), ("random", random_act),
                          ("zero", zero_act)]:
-            print(describe(who, play(task["env"], act, n, seed)))
+            print(describe(who, play(task["env"], act, n, seed, task["success"])))
         path = out / name / "demos"
+        if "dataset" in task:
+            # Kept where its study made it; the suite's folder links to it.
+            path.parent.mkdir(parents=True, exist_ok=True)
+            if not path.exists():
+                path.symlink_to(os.path.relpath(ROOT / task["dataset"], path.parent))
+            print(f"  demonstrations: {task['dataset']} (linked from {path})")
+            continue
         recording = logo_rl.record(task["env"], task["demonstrator"], n, path, seed=seed)
         print(f"  recorded {recording.episodes} episodes, {recording.steps} steps into {path}")
 
