@@ -19,6 +19,7 @@ policy), all from the demonstrations in data/suite/<task>/demos. `list` prints t
 """
 
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -70,6 +71,69 @@ def trained(checkpoint):
     return act
 
 
+class FixedCells:
+    """PointMaze with its start and goal cells fixed far apart (random ones are often
+    next to each other, where random actions find the goal)."""
+
+    RESET, GOAL = (1, 1), (6, 6)
+
+    @staticmethod
+    def make():
+        import gymnasium as gym
+        import gymnasium_robotics
+
+        gym.register_envs(gymnasium_robotics)
+
+        class Fixed(gym.Wrapper):
+            def reset(self, *, seed=None, options=None):
+                cells = {"reset_cell": np.array(FixedCells.RESET),
+                         "goal_cell": np.array(FixedCells.GOAL)}
+                return self.env.reset(seed=seed, options=cells)
+
+        return gym.wrappers.FlattenObservation(Fixed(gym.make("PointMaze_Medium-v3")))
+
+
+def point_maze_medium():
+    """PointMaze_Medium-v3 from cell (1, 1) to cell (6, 6), observations flattened."""
+    return FixedCells.make()
+
+
+def maze_controller(kp=10.0, kd=1.0):
+    """Towards the next cell centre of the shortest grid route to the goal (breadth-first
+    over the maze map), then to the goal itself; a PD law on the point's position."""
+    from collections import deque
+
+    env = point_maze_medium()
+    maze = env.unwrapped.maze
+    grid = np.array(maze.maze_map)
+
+    def cell(xy):
+        return tuple(int(v) for v in maze.cell_xy_to_rowcol(np.asarray(xy)))
+
+    def route(start, goal):
+        before, queue = {start: None}, deque([start])
+        while queue:
+            here = queue.popleft()
+            for dr, dc in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                there = (here[0] + dr, here[1] + dc)
+                if grid[there] == 0 and there not in before:
+                    before[there] = here
+                    queue.append(there)
+        path = [goal]
+        while before.get(path[-1]) is not None:
+            path.append(before[path[-1]])
+        return path[::-1]
+
+    def act(obs):
+        # Flattened in key order: achieved_goal, desired_goal, observation (x, y, ẋ, ẏ).
+        position, goal, velocity = obs[4:6], obs[2:4], obs[6:8]
+        path = route(cell(position), cell(goal))
+        target = goal if len(path) <= 2 else maze.cell_rowcol_to_xy(np.array(path[1]))
+        return np.clip(kp * (target - position) - kd * velocity, -1.0, 1.0)
+
+    return act
+
+
 def mountain_car_controller(obs):
     """Push the way the car moves (every episode reaches the flag)."""
     return [1.0 if obs[1] >= 0 else -1.0]
@@ -87,9 +151,9 @@ def logo_env(env_id, limit):
     return make
 
 
-# Each task: the env (a logo-rl id, made sparse by its kind, or a Gymnasium id), the
-# success rule a run counts with, the sample budget per run, the demonstrator and the
-# number of demonstration episodes.
+# Each task: the env (a logo-rl id, made sparse by its kind, or a Gymnasium env: `python`,
+# trained through logo_rl), the success rule a run counts with, the sample budget per run,
+# the demonstrator and the number of demonstration episodes.
 TASKS = {
     "reacher-goal": dict(
         kind="manipulation goal",
@@ -127,9 +191,23 @@ TASKS = {
         dataset="data/behaviour/hopper-trpo",
         episodes=20,
     ),
+    # Navigation in a maze: Gymnasium-Robotics' PointMaze (its sparse reward: 1 on every
+    # step within 0.45 of the goal; info["success"]). Needs `.venv/bin/pip install
+    # gymnasium-robotics==1.4.0` (it installs beside Gymnasium 1.4.0).
+    "maze": dict(
+        kind="navigation in a maze",
+        env=point_maze_medium,
+        python=True,
+        env_id="PointMaze_Medium-v3, cells (1, 1) to (6, 6)",
+        success="task",
+        budget=1_000_000,
+        demonstrator=None,  # made on first use: it reads the maze's map
+        episodes=20,
+    ),
     "mountain-car": dict(
         kind="goal with an action cost",
         env="MountainCarContinuous-v0",
+        python=True,
         env_id="MountainCarContinuous-v0",
         success="terminated",
         budget=200_000,
@@ -152,7 +230,8 @@ def play(make, act, episodes, seed, success):
             obs, reward, terminated, truncated, info = env.step(np.asarray(act(obs)))
             total += float(reward)
             steps += 1
-            reached |= bool(info.get("is_success", False) if success == "task" else terminated)
+            goal = info.get("is_success", info.get("success", False))
+            reached |= bool(goal if success == "task" else terminated)
             done = terminated or truncated
         out.append((total, steps, None if success == "none" else reached))
     return out
@@ -181,7 +260,8 @@ def demos(out: Path, names, episodes, seed):
         zero_act = lambda obs: np.zeros(space.shape)  # noqa: E731
         print(f"{name} ({task['kind']}): {task['env_id']}, success = {task['success']!r}, "
               f"budget {task['budget']:,} samples")
-        for who, act in [("demonstrator", task["demonstrator"]), ("random", random_act),
+        demonstrator = task["demonstrator"] or maze_controller()
+        for who, act in [("demonstrator", demonstrator), ("random", random_act),
                          ("zero", zero_act)]:
             print(describe(who, play(task["env"], act, n, seed, task["success"])))
         path = out / name / "demos"
@@ -192,7 +272,7 @@ def demos(out: Path, names, episodes, seed):
                 path.symlink_to(os.path.relpath(ROOT / task["dataset"], path.parent))
             print(f"  demonstrations: {task['dataset']} (linked from {path})")
             continue
-        recording = logo_rl.record(task["env"], task["demonstrator"], n, path, seed=seed)
+        recording = logo_rl.record(task["env"], demonstrator, n, path, seed=seed)
         print(f"  recorded {recording.episodes} episodes, {recording.steps} steps into {path}")
 
 
@@ -233,11 +313,10 @@ def configs(out: Path, name: str) -> list[Path]:
 def run(out: Path, names, seeds: str, iterations: int | None = None):
     for name in names:
         task = TASKS[name]
-        if isinstance(task["env"], str):
-            print(f"{name}: a Gymnasium env; its runs go through logo_rl.train "
-                  f"(scripts/experiments/mountaincar.py for MountainCar)")
-            continue
         folder = out / name
+        if task.get("python"):
+            run_python(folder, name, seeds, iterations)
+            continue
         logo, trpo = configs(folder, name)
         env = dict(os.environ, LD_LIBRARY_PATH=str(ROOT / "third_party" / "mujoco" / "lib"))
         sweep = [LOGO, "sweep", str(logo), str(trpo), "--seeds", seeds, "--jobs", "1",
@@ -255,6 +334,35 @@ def run(out: Path, names, seeds: str, iterations: int | None = None):
                 subprocess.run([LOGO, "bc", "--config", str(logo), "--seed", str(seed),
                                 "--out", str(bc / "policy.safetensors")],
                                check=True, env=env, stdout=log)
+
+
+def run_python(folder: Path, name: str, seeds: str, iterations: int | None):
+    """A Gymnasium env's task through logo_rl.train and logo_rl.bc (the Rust sampler steps
+    the Python env), with the same arms and the new-task preset."""
+    task = TASKS[name]
+    demos = ROOT / "data" / "suite" / name / "demos"
+    samples = tomllib.loads(PRESET.read_text())["samples_per_iter"]
+    n = iterations or task["budget"] // samples
+    first, last = (int(x) for x in seeds.split(".."))
+    for seed in range(first, last):
+        for arm in ("logo", "trpo"):
+            run_dir = folder / "runs" / arm / f"seed{seed}"
+            if (run_dir / "eval.json").is_file():
+                continue
+            print(f"[suite] {name} {arm}/seed{seed}", flush=True)
+            if (run_dir / "checkpoint.safetensors").is_file():
+                logo_rl.train(resume=run_dir, env=task["env"], progress=False)
+                continue
+            arm_keys = {"demos": demos} if arm == "logo" else {"guidance": None}
+            logo_rl.train("new-task", env=task["env"], out=run_dir, seed=seed, iterations=n,
+                          success=task["success"], progress=False, **arm_keys)
+        bc = folder / "runs" / "bc" / f"seed{seed}"
+        if not (bc / "policy.safetensors").is_file():
+            cloned = logo_rl.bc(demos, env=task["env"], seed=seed,
+                                out=bc / "policy.safetensors")
+            kept = {"pairs": cloned.pairs, "loss_before": cloned.loss_before,
+                    "loss_after": cloned.loss_after, "evaluation": cloned.evaluation}
+            (bc / "bc.json").write_text(json.dumps(kept, indent=1) + "\n")
 
 
 def main(argv=None):
