@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use serde_inline_default::serde_inline_default;
 
-use logo_envs::{EnvConfig, EnvSpec};
+use logo_envs::{EnvConfig, EnvError, EnvSpec};
 use logo_nn::DiscriminatorInit;
 
 use crate::bc::{InitConfig, InitKind};
@@ -675,10 +675,14 @@ impl TrainConfig {
         let Some(eval_env) = &self.eval_env else {
             return Ok(());
         };
+        // A model file that is not there is a missing file; the rest are values.
         let spec = |env: &EnvConfig, key: &str| {
             env.factory()
                 .map(|f| f.spec().clone())
-                .map_err(|e| format!("{key}: {e}"))
+                .map_err(|e| match e {
+                    EnvError::ModelMissing(_) => Invalid::Missing(format!("{key}: {e}")),
+                    e => Invalid::Value(format!("{key}: {e}")),
+                })
         };
         let (trained, evaluated) = (spec(&self.env, "env")?, spec(eval_env, "eval_env")?);
         dims_mismatch(&trained, &evaluated).map_or(Ok(()), Err)

@@ -1,13 +1,13 @@
 //! What stops a config check, a run or a resume, as values a caller can tell apart: the
 //! Python package raises `FileNotFoundError`, `ValueError` or `LogoError` by the variant,
-//! `logo compare` and the tests match on it. The words stay those the message always had;
-//! the variant says what kind of mistake it is.
+//! and the tests match on it. The words stay those the message always had; the variant
+//! says what kind of mistake it is.
 
 use std::fmt::Display;
 use std::path::PathBuf;
 
 use logo_data::DataError;
-use logo_envs::{EnvError, EnvKeyError};
+use logo_envs::EnvError;
 use logo_nn::{CheckpointError, DamagedStats, ImportError};
 
 /// A config that cannot be used: which file (or `<config dict>`), what kind of mistake,
@@ -24,7 +24,7 @@ pub struct ConfigError {
 /// package raises `FileNotFoundError`, `TypeError` or `ValueError` by it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ConfigErrorKind {
-    /// The config file is not there.
+    /// The config file, or a file one of its keys names, is not there.
     NotFound,
     /// It is there but could not be read (permissions, not UTF-8).
     Unreadable,
@@ -71,9 +71,6 @@ pub enum TrainError {
     /// An env that cannot be made or stepped.
     #[error("{0}")]
     Env(#[from] EnvError),
-    /// An env a config's key names that cannot be made.
-    #[error("{0}")]
-    EnvKey(#[from] EnvKeyError),
     /// A checkpoint that cannot be read or written.
     #[error("{0}")]
     Checkpoint(#[from] CheckpointError),

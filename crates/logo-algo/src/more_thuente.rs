@@ -66,6 +66,19 @@ struct Interval {
     brackt: bool,
 }
 
+/// A search that cannot start from what it was given.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum SearchError {
+    #[error("the first step is below stpmin")]
+    BelowMin,
+    #[error("the first step is above stpmax")]
+    AboveMax,
+    #[error("the direction is not a descent direction")]
+    NotDescent,
+    #[error("a tolerance or bound is negative, or stpmax < stpmin")]
+    Bounds,
+}
+
 impl MoreThuente {
     /// A search from φ(0) = `f0`, φ'(0) = `g0` (< 0) with first trial step `stp`.
     pub fn new(
@@ -74,18 +87,18 @@ impl MoreThuente {
         stp: f64,
         (ftol, gtol, xtol): (f64, f64, f64),
         (stpmin, stpmax): (f64, f64),
-    ) -> Result<Self, &'static str> {
+    ) -> Result<Self, SearchError> {
         if stp < stpmin {
-            return Err("the first step is below stpmin");
+            return Err(SearchError::BelowMin);
         }
         if stp > stpmax {
-            return Err("the first step is above stpmax");
+            return Err(SearchError::AboveMax);
         }
         if g0 >= 0.0 {
-            return Err("the direction is not a descent direction");
+            return Err(SearchError::NotDescent);
         }
         if ftol < 0.0 || gtol < 0.0 || xtol < 0.0 || stpmin < 0.0 || stpmax < stpmin {
-            return Err("a tolerance or bound is negative, or stpmax < stpmin");
+            return Err(SearchError::Bounds);
         }
         let width = stpmax - stpmin;
         Ok(Self {

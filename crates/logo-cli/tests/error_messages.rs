@@ -1,4 +1,4 @@
-//! The one-line errors of bad input, word for word: `tests/golden/error-messages.txt`
+//! The one-line errors of 45 bad inputs, word for word: `tests/golden/error-messages.txt`
 //! holds each case's line as `logo` printed it (its scratch folder written `<dir>`).
 //! Written before the errors became typed, so that the types change no message; a change
 //! meant to reword one rewrites the file with `LOGO_GOLDEN_WRITE=1` and says so.

@@ -2,8 +2,8 @@
 
 use logo_algo::{ConfigError, ConfigErrorKind, Invalid, TrainError};
 use logo_data::DataError;
-use logo_envs::{EnvError, RuleError};
-use logo_nn::CheckpointError;
+use logo_envs::EnvError;
+use logo_nn::{CheckpointError, DamagedStats, ImportError};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
@@ -69,18 +69,15 @@ impl Kind {
         match e.cause() {
             TrainError::Config(e) => Self::of_config(e.kind),
             TrainError::Env(e) => Self::of_env(e),
-            TrainError::EnvKey(e) => Self::of_env(&e.source),
-            TrainError::Io { source, .. }
-            | TrainError::Data(DataError::Io { source, .. })
-            | TrainError::Checkpoint(CheckpointError::Io { source, .. }) => missing(source),
-            TrainError::Invalid(Invalid::Missing(_)) => Self::NotFound,
-            TrainError::Invalid(Invalid::Value(_))
-            | TrainError::Resume(_)
-            | TrainError::Data(_)
-            | TrainError::Checkpoint(_)
-            | TrainError::Import(_)
-            | TrainError::Stats(_)
-            | TrainError::Csv { .. } => Self::Value,
+            TrainError::Io { source, .. } => missing(source),
+            TrainError::Csv { source, .. } => match source.kind() {
+                csv::ErrorKind::Io(e) => missing(e),
+                _ => Self::Value,
+            },
+            TrainError::Invalid(e) => Self::of_invalid(e),
+            TrainError::Data(e) => Self::of_data(e),
+            TrainError::Checkpoint(e) => Self::of_checkpoint(e),
+            TrainError::Import(_) | TrainError::Stats(_) | TrainError::Resume(_) => Self::Value,
             TrainError::Toml(_)
             | TrainError::Json(_)
             | TrainError::Threads { .. }
@@ -91,8 +88,38 @@ impl Kind {
         }
     }
 
+    fn of_invalid(e: &Invalid) -> Self {
+        match e {
+            Invalid::Missing(_) => Self::NotFound,
+            Invalid::Value(_) => Self::Value,
+        }
+    }
+
+    /// A demonstrations file that is not there, or whose contents are wrong.
+    fn of_data(e: &DataError) -> Self {
+        match e {
+            DataError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
+                Self::NotFound
+            }
+            DataError::Io { .. } => Self::Other,
+            _ => Self::Value,
+        }
+    }
+
+    /// A checkpoint that is not there, or whose contents are wrong.
+    fn of_checkpoint(e: &CheckpointError) -> Self {
+        match e {
+            CheckpointError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
+                Self::NotFound
+            }
+            CheckpointError::Io { .. } => Self::Other,
+            _ => Self::Value,
+        }
+    }
+
     /// The kind of the first error in a chain that says one: a run's error by its
-    /// variant, a missing file, a config's mistake, an env's, a value refused.
+    /// variant, a missing file, a config's mistake, an env's, a file's contents, a value
+    /// refused.
     fn of_chain<'a>(chain: impl Iterator<Item = &'a (dyn std::error::Error + 'static)>) -> Self {
         for cause in chain {
             if let Some(e) = cause.downcast_ref::<TrainError>() {
@@ -105,9 +132,13 @@ impl Kind {
                 return Self::of_config(e.kind);
             } else if let Some(e) = cause.downcast_ref::<EnvError>() {
                 return Self::of_env(e);
-            } else if let Some(Invalid::Missing(_)) = cause.downcast_ref::<Invalid>() {
-                return Self::NotFound;
-            } else if cause.is::<Invalid>() || cause.is::<RuleError>() {
+            } else if let Some(e) = cause.downcast_ref::<Invalid>() {
+                return Self::of_invalid(e);
+            } else if let Some(e) = cause.downcast_ref::<DataError>() {
+                return Self::of_data(e);
+            } else if let Some(e) = cause.downcast_ref::<CheckpointError>() {
+                return Self::of_checkpoint(e);
+            } else if cause.is::<ImportError>() || cause.is::<DamagedStats>() {
                 return Self::Value;
             }
         }
@@ -134,6 +165,11 @@ pub(crate) fn raised(kind: Kind, message: String) -> PyErr {
             Err(_) => LogoError::new_err(message),
         }
     })
+}
+
+/// What a check refused, raised by its kind (a missing file, a value).
+pub(crate) fn invalid(e: &Invalid, message: String) -> PyErr {
+    raised(Kind::of_invalid(e), message)
 }
 
 /// A config that cannot be used, raised by its kind.

@@ -326,7 +326,7 @@ pub fn configure(
     let loaded = self::config(config, table_json, base)?;
     let made = logo_algo::algorithms::configure(&loaded, name).map_err(|e| {
         let origin = origin.map_or("<config dict>".into(), |p| p.display().to_string());
-        raised(Kind::Value, format!("{origin}: as {name}: {e}"))
+        crate::errors::invalid(&e, format!("{origin}: as {name}: {e}"))
     })?;
     made.to_toml()
         .map_err(|e| crate::errors::LogoError::new_err(e.to_string()))

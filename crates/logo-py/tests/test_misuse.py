@@ -111,6 +111,9 @@ def test_errors_are_typed_python_exceptions_under_logo_error(tmp_path):
          lambda: logo_rl.train(resume=empty, progress=False)),
         (ValueError, logo_rl.LogoValueError, "not a safetensors file",
          lambda: logo_rl.train(resume=damaged, progress=False)),
+        # The same damaged file read as a policy is the same kind of mistake.
+        (ValueError, logo_rl.LogoValueError, "not a safetensors file",
+         lambda: logo_rl.load(damaged / "checkpoint.safetensors")),
     ]
     for python_kind, logo_kind, words, call in cases:
         with pytest.raises(python_kind, match=words) as raised:
