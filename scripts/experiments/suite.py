@@ -217,11 +217,23 @@ TASKS = {
 }
 
 
-def play(make, act, episodes, seed, success):
+def make_env(env):
+    """A task's env: its maker called, or its Gymnasium id made."""
+    import gymnasium as gym
+
+    return env() if callable(env) else gym.make(env)
+
+
+def seed_range(seeds: str) -> range:
+    """`0..5` as logo sweep reads it: seeds 0 to 4."""
+    first, last = (int(x) for x in seeds.split(".."))
+    return range(first, last)
+
+
+def play(env, act, episodes, seed, success):
     """Returns, steps and whether each episode reached the goal by the task's success rule
     ("task": any step's info["is_success"]; "terminated": the episode ended there;
     "none": no goal, None)."""
-    env = make() if callable(make) else __import__("gymnasium").make(make)
     out = []
     for k in range(episodes):
         obs, _ = env.reset(seed=seed + k)
@@ -251,11 +263,8 @@ def demos(out: Path, names, episodes, seed):
         task = TASKS[name]
         n = episodes or task["episodes"]
         rng = np.random.default_rng(seed)
-        env = task["env"]() if callable(task["env"]) else None
-        space = env.action_space if env is not None else None
-        if space is None:
-            import gymnasium as gym
-            space = gym.make(task["env"]).action_space
+        env = make_env(task["env"])
+        space = env.action_space
         random_act = lambda obs: rng.uniform(space.low, space.high)  # noqa: E731
         zero_act = lambda obs: np.zeros(space.shape)  # noqa: E731
         print(f"{name} ({task['kind']}): {task['env_id']}, success = {task['success']!r}, "
@@ -263,7 +272,7 @@ def demos(out: Path, names, episodes, seed):
         demonstrator = task["demonstrator"] or maze_controller()
         for who, act in [("demonstrator", demonstrator), ("random", random_act),
                          ("zero", zero_act)]:
-            print(describe(who, play(task["env"], act, n, seed, task["success"])))
+            print(describe(who, play(env, act, n, seed, task["success"])))
         path = out / name / "demos"
         if "dataset" in task:
             # Kept where its study made it; the suite's folder links to it.
@@ -324,8 +333,7 @@ def run(out: Path, names, seeds: str, iterations: int | None = None):
         if iterations is not None:  # a shorter run than the budget (a smoke test)
             sweep += ["--iterations", str(iterations)]
         subprocess.run(sweep, check=True, env=env)
-        first, last = (int(x) for x in seeds.split(".."))
-        for seed in range(first, last):
+        for seed in seed_range(seeds):
             bc = folder / "runs" / "bc" / f"seed{seed}"
             if (bc / "policy.safetensors").is_file():
                 continue
@@ -343,8 +351,7 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None):
     demos = ROOT / "data" / "suite" / name / "demos"
     samples = tomllib.loads(PRESET.read_text())["samples_per_iter"]
     n = iterations or task["budget"] // samples
-    first, last = (int(x) for x in seeds.split(".."))
-    for seed in range(first, last):
+    for seed in seed_range(seeds):
         for arm in ("logo", "trpo"):
             run_dir = folder / "runs" / arm / f"seed{seed}"
             if (run_dir / "eval.json").is_file():

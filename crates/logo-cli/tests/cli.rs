@@ -1,6 +1,9 @@
 //! The `logo` binary as a user meets it.
 
-use logo_testkit::{Logo, metrics_without_timings, one_line_error as stderr_line, scratch};
+use logo_testkit::{
+    Logo, TINY_LOGO_TEXT as TINY, metrics_without_timings, one_line_error as stderr_line, scratch,
+    write_demos_npy as write_npy,
+};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -8,35 +11,10 @@ fn cli() -> Logo {
     Logo::new(env!("CARGO_BIN_EXE_logo"))
 }
 
-/// A demonstrations file with the given width.
-fn write_npy(path: &Path, rows: usize, cols: usize) {
-    let data: Vec<f64> = (0..rows * cols)
-        .map(|k| (k as f64 * 0.1).sin() * 0.5)
-        .collect();
-    logo_data::write_npy(path, &[rows, cols], &data).unwrap();
-}
-
 /// `logo train` on `config`, expected to fail: its one-line error.
 fn train_error(config: &Path, out: &Path) -> String {
     cli().train_error(config, out)
 }
-
-const TINY: &str = r#"
-env = "SparseInvertedDoublePendulum-v4"
-iterations = 2
-samples_per_iter = 300
-num_envs = 4
-policy_hidden = [16, 16]
-eval_steps = 100
-[critic]
-hidden = [16, 16]
-fit = { method = "lbfgs", iterations = 3 }
-[guidance]
-demos = "demos.npy"
-delta0 = 0.2
-alpha = 0.9
-warmup = 0
-"#;
 
 /// A scratch folder with the tiny LOGO config and its demonstrations; the config's path.
 fn tiny_run(name: &str) -> (PathBuf, PathBuf) {

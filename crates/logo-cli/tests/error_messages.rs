@@ -5,24 +5,9 @@
 
 use std::path::Path;
 
-use logo_testkit::{Logo, one_line_error, scratch, workspace};
-
-const TINY: &str = r#"
-env = "SparseInvertedDoublePendulum-v4"
-iterations = 2
-samples_per_iter = 300
-num_envs = 4
-policy_hidden = [16, 16]
-eval_steps = 100
-[critic]
-hidden = [16, 16]
-fit = { method = "lbfgs", iterations = 3 }
-[guidance]
-demos = "demos.npy"
-delta0 = 0.2
-alpha = 0.9
-warmup = 0
-"#;
+use logo_testkit::{
+    Logo, TINY_LOGO_TEXT as TINY, one_line_error, scratch, workspace, write_demos_npy as write_npy,
+};
 
 /// A bad config: its name and its text (TINY with one mistake).
 fn config_cases() -> Vec<(&'static str, String)> {
@@ -177,12 +162,6 @@ fn config_cases() -> Vec<(&'static str, String)> {
             ),
         ),
     ]
-}
-
-/// Writes a `.npy` file of `rows` × `cols` small values.
-fn write_npy(path: &Path, rows: usize, cols: usize) {
-    let data: Vec<f64> = (0..rows * cols).map(|k| (k as f64 * 0.1).sin()).collect();
-    logo_data::write_npy(path, &[rows, cols], &data).unwrap();
 }
 
 /// Every case's line, `name: message`, with the scratch folder written `<dir>`.

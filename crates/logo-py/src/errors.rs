@@ -62,16 +62,12 @@ impl Kind {
     /// are wrong (a demonstrations file, a checkpoint, its resume state) are bad values;
     /// a busy run folder, a step that left NaN, a failed write are LogoError itself.
     fn of_train(e: &TrainError) -> Self {
-        let missing = |e: &std::io::Error| match e.kind() {
-            std::io::ErrorKind::NotFound => Self::NotFound,
-            _ => Self::Other,
-        };
         match e.cause() {
             TrainError::Config(e) => Self::of_config(e.kind),
             TrainError::Env(e) => Self::of_env(e),
-            TrainError::Io { source, .. } => missing(source),
+            TrainError::Io { source, .. } => Self::of_io(source),
             TrainError::Csv { source, .. } => match source.kind() {
-                csv::ErrorKind::Io(e) => missing(e),
+                csv::ErrorKind::Io(e) => Self::of_io(e),
                 _ => Self::Value,
             },
             TrainError::Invalid(e) => Self::of_invalid(e),
@@ -88,6 +84,14 @@ impl Kind {
         }
     }
 
+    /// A file that is not there; any other I/O failure is LogoError itself.
+    fn of_io(e: &std::io::Error) -> Self {
+        match e.kind() {
+            std::io::ErrorKind::NotFound => Self::NotFound,
+            _ => Self::Other,
+        }
+    }
+
     fn of_invalid(e: &Invalid) -> Self {
         match e {
             Invalid::Missing(_) => Self::NotFound,
@@ -98,10 +102,7 @@ impl Kind {
     /// A demonstrations file that is not there, or whose contents are wrong.
     fn of_data(e: &DataError) -> Self {
         match e {
-            DataError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
-                Self::NotFound
-            }
-            DataError::Io { .. } => Self::Other,
+            DataError::Io { source, .. } => Self::of_io(source),
             _ => Self::Value,
         }
     }
@@ -109,10 +110,7 @@ impl Kind {
     /// A checkpoint that is not there, or whose contents are wrong.
     fn of_checkpoint(e: &CheckpointError) -> Self {
         match e {
-            CheckpointError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
-                Self::NotFound
-            }
-            CheckpointError::Io { .. } => Self::Other,
+            CheckpointError::Io { source, .. } => Self::of_io(source),
             _ => Self::Value,
         }
     }

@@ -117,6 +117,34 @@ pub fn one_line_error(out: &Output) -> String {
     err
 }
 
+/// A tiny LOGO run's config as text, its demonstrations `demos.npy` beside it (write them
+/// with [`write_demos_npy`], 12 columns for IDP): sparse IDP, 2 iterations of 300
+/// samples, 16 × 16 networks; tests edit the text to make one mistake or change one key.
+pub const TINY_LOGO_TEXT: &str = r#"
+env = "SparseInvertedDoublePendulum-v4"
+iterations = 2
+samples_per_iter = 300
+num_envs = 4
+policy_hidden = [16, 16]
+eval_steps = 100
+[critic]
+hidden = [16, 16]
+fit = { method = "lbfgs", iterations = 3 }
+[guidance]
+demos = "demos.npy"
+delta0 = 0.2
+alpha = 0.9
+warmup = 0
+"#;
+
+/// A LOGO `.npy` of `rows` × `cols` small values (rows of observation ‖ action).
+pub fn write_demos_npy(path: &Path, rows: usize, cols: usize) {
+    let data: Vec<f64> = (0..rows * cols)
+        .map(|k| (k as f64 * 0.1).sin() * 0.5)
+        .collect();
+    logo_data::write_npy(path, &[rows, cols], &data).expect("a writable .npy path");
+}
+
 /// A tiny run's config: sparse IDP at sizes a test trains in seconds (2 iterations of 300
 /// samples, 16 × 16 networks, 100 evaluation steps), TRPO unless [`Tiny::logo`] adds
 /// LOGO's guidance. Tests change what they vary with [`Tiny::set`] or [`Tiny::with`].
