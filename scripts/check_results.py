@@ -88,6 +88,15 @@ holds seed*/ runs, and a .csv path is one run):
   config   file=PATH              a settings table: the first column `[table] key` or
                                   `key`, the second its value in that TOML file
 
+  suite    rows=GROUP;...         a suite task's final policies (scripts/experiments/suite.py
+           demos=K/N |            report), a row per method, the first group LOGO's; each
+           demos_return=R         seed*/ folder holds eval.json or BC's policy.eval.json
+                                  (the "final" policy, mean action): seeds exact; "final
+                                  return: IQM [95% CI]" and "IQM difference" as in arms;
+                                  "reached the goal, ... per seed" each seed's k, then "of
+                                  n"; "seeds at ≥ the demonstrations'" the seeds whose rate
+                                  k/n ≥ K/N (without a goal: whose return ≥ R); "P(LOGO >
+                                  method)" as in arms; "—" for LOGO's own row
   goal     rows=GROUP;...         a task that ends only at its goal: per group its seeds
                                   (exact), then per column "final: ... per seed" (or
                                   "best: ..."), each seed's count of eval.json episodes
@@ -381,6 +390,66 @@ def column_value(header, runs, opts, metric="eval_dense_return"):
         first = int(opts.get("first", 25))
         return repr(statistics.fmean(r[column] for rows in runs for r in rows[:first]))
     return None
+
+
+def suite_finals(group):
+    """Each finished seed's final policy (mean action) of a suite group, in seed order."""
+    base = ROOT / "docs/results" / group
+    finals = []
+    for folder in sorted(base.glob("seed*"), key=lambda p: int(p.name[4:])):
+        file = next((folder / n for n in ("eval.json", "policy.eval.json") if (folder / n).is_file()), None)
+        if file is not None:
+            finals.append(json.loads(file.read_text())["policies"]["final"]["mean_action"]["summary"])
+    return finals
+
+
+def check_suite(opts, header, body, compare, wrong):
+    """The `suite` kind (see the module's docstring); returns how many interval cells it
+    checked (`compare` counts the others)."""
+    intervals = 0
+    groups = opts["rows"].split(";")
+    if len(groups) != len(body):
+        raise SystemExit(f"suite: {len(groups)} groups for {len(body)} rows")
+    finals = [suite_finals(g) for g in groups]
+    returns = [[f["return"] for f in group] for group in finals]
+    logo = returns[0]
+    for r, (group, values) in enumerate(zip(finals, returns)):
+        compare(r, 1, str(len(values)))
+        if not values:
+            continue
+        for c in range(2, len(header)):
+            name = header[c]
+            if name.startswith("final return"):
+                spread = max(values) - min(values)
+                lo, hi = bootstrap_interval(values, iqm)
+                intervals += 1
+                if not interval_agrees(body[r][c], iqm(values), (lo, hi), 0.05 * spread):
+                    wrong.append((r + 1, name, body[r][c], f"{iqm(values):.1f} [{lo:.1f}, {hi:.1f}]"))
+            elif name.startswith("reached the goal"):
+                if "per seed" in name:
+                    counts = [f["reached"] for f in group]
+                    compare(r, c, ", ".join(str(k) for k, _ in counts) + f" of {counts[0][1]}")
+            elif name.startswith("seeds at ≥ the demonstrations"):
+                if "demos" in opts:
+                    k, n = (int(v) for v in opts["demos"].split("/"))
+                    met = sum(f["reached"][0] / f["reached"][1] >= k / n for f in group)
+                else:
+                    met = sum(v >= float(opts["demos_return"]) for v in values)
+                compare(r, c, f"{met} of {len(values)}")
+            elif name.startswith("P(LOGO >") or name.startswith("IQM difference"):
+                if r == 0:
+                    continue
+                p = name.startswith("P(")
+                stat = probability_of_improvement if p else (lambda u, v: iqm(u) - iqm(v))
+                tolerance = 0.05 if p else 0.05 * (max(logo + values) - min(logo + values))
+                point = stat(logo, values)
+                lo, hi = bootstrap_two(logo, values, stat)
+                intervals += 1
+                if not interval_agrees(body[r][c], point, (lo, hi), tolerance):
+                    wrong.append((r + 1, name, body[r][c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
+            else:
+                raise SystemExit(f"suite: column {name!r} is not suite.py's")
+    return intervals
 
 
 # ---------------------------------------------------------------- comparing
@@ -738,6 +807,9 @@ def check_table(kind, opts, header, body):
                     spread = max(values) - min(values)
                     if not interval_agrees(body[r][c], point, (lo, hi), 0.05 * spread):
                         wrong.append((r + 1, header[c], body[r][c], f"{point:.0f} [{lo:.0f}, {hi:.0f}]"))
+    elif kind == "suite":
+        intervals = check_suite(opts, header, body, compare, wrong)
+        checked += intervals  # after the call: `compare` counts its cells into `checked`
     elif kind == "goal":
         groups = opts["rows"].split(";")
         if len(groups) != len(body):

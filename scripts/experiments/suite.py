@@ -16,11 +16,20 @@ trains, on each task of logo-rl's envs, LOGO with the new-task preset and TRPO (
 config without its guidance) for the task's budget with `logo sweep` (finished runs are
 skipped, interrupted ones resume), and behaviour cloning (`logo bc`, which evaluates its
 policy), all from the demonstrations in data/suite/<task>/demos. `list` prints the tasks.
+
+    .venv/bin/python scripts/experiments/suite.py report OUT [TASK ...] [--keep DOCS]
+
+prints each task's table (the final policies' returns as IQM with 95% bootstrap intervals,
+how often each seed's final policy reached the goal, the target against the
+demonstrations, P(LOGO > method)) with the check comment scripts/check_results.py reads;
+--keep copies the finished runs' files into DOCS/<task>/<method>/seed<N> (metrics,
+config, eval.json; BC's policy.eval.json and log) for the results page.
 """
 
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tomllib
@@ -29,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 import logo_rl
+from logo_rl.stats import interval, interval_two, iqm, probability_of_improvement
 
 ROOT = Path(__file__).resolve().parents[2]
 PRESET = ROOT / "configs" / "templates" / "new_task.toml"
@@ -365,11 +375,133 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None):
                           success=task["success"], progress=False, **arm_keys)
         bc = folder / "runs" / "bc" / f"seed{seed}"
         if not (bc / "policy.safetensors").is_file():
-            cloned = logo_rl.bc(demos, env=task["env"], seed=seed,
+            cloned = logo_rl.bc(demos, env=task["env"], seed=seed, success=task["success"],
                                 out=bc / "policy.safetensors")
             kept = {"pairs": cloned.pairs, "loss_before": cloned.loss_before,
                     "loss_after": cloned.loss_after, "evaluation": cloned.evaluation}
             (bc / "bc.json").write_text(json.dumps(kept, indent=1) + "\n")
+
+
+ARMS = ("logo", "trpo", "bc")
+ARM_NAMES = {"logo": "LOGO (new-task preset)", "trpo": "TRPO", "bc": "BC"}
+
+
+def final_policy(folder: Path) -> dict | None:
+    """A finished seed's final policy as its evaluation file holds it (a run's eval.json,
+    BC's policy.eval.json), or None while it runs."""
+    for name in ("eval.json", "policy.eval.json"):
+        if (folder / name).is_file():
+            return json.loads((folder / name).read_text())["policies"]["final"]
+    return None
+
+
+# The demonstrations' own figures, as `suite.py demos` printed them for the demonstrator
+# (data/README.md's table; the same episodes, from the same initial states, as were
+# recorded): episodes reaching the goal (None: the task has no goal) and the mean return.
+DEMONSTRATED = {
+    "reacher-goal": {"reached": (20, 20), "return": 29.70},
+    "maze": {"reached": (20, 20), "return": 406.05},
+    "mountain-car": {"reached": (15, 15), "return": 89.36},
+    "ant-distance": {"reached": (19, 20), "return": 719.40},
+    "hopper-delayed": {"reached": None, "return": 1381.50},
+}
+
+
+def bc_evaluation(folder: Path):
+    """BC's policy.eval.json where a `logo bc` older than it left only the checkpoint:
+    `logo eval --json` plays the same episodes (the checkpoint's seed, 20 fresh initial
+    states, its success rule) and its report is kept in `logo bc`'s layout."""
+    checkpoint = folder / "policy.safetensors"
+    if (folder / "policy.eval.json").is_file() or not checkpoint.is_file():
+        return
+    env = dict(os.environ, LD_LIBRARY_PATH=str(ROOT / "third_party" / "mujoco" / "lib"))
+    played = json.loads(subprocess.run(
+        [LOGO, "eval", "--checkpoint", str(checkpoint), "--json"],
+        check=True, env=env, capture_output=True, text=True).stdout)
+    final = {"checkpoint": checkpoint.name, "iteration": 0,
+             "mean_action": played["mean_action"], "clipped": played["clipped"]}
+    doc = {"env": played["env"], "seed": int(folder.name[4:]),
+           "episodes": len(played["mean_action"]["episodes"]),
+           "initial_states": "fresh: as `logo eval --json` (the checkpoint's seed)",
+           "policies": {"final": final}}
+    (folder / "policy.eval.json").write_text(json.dumps(doc, indent=2) + "\n")
+
+
+def task_table(out: Path, name: str, keep: Path | None) -> str:
+    """One task's table and its check comment (the groups named as kept under docs)."""
+    runs = out / name / "runs"
+    seeds: dict[str, list[tuple[int, dict]]] = {}
+    for arm in ARMS:
+        found = []
+        for folder in sorted(runs.glob(f"{arm}/seed*"), key=lambda p: int(p.name[4:])):
+            if arm == "bc":
+                bc_evaluation(folder)
+            policy = final_policy(folder)
+            if policy is not None:
+                found.append((int(folder.name[4:]), policy))
+                if keep is not None:
+                    keep_seed(folder, keep / name / arm / folder.name)
+        seeds[arm] = found
+    demo = DEMONSTRATED[name]
+    goal = demo["reached"] is not None
+    returns = {a: [p["mean_action"]["summary"]["return"] for _, p in seeds[a]] for a in ARMS}
+    if goal:
+        k, n = demo["reached"]
+        target = f"seeds at ≥ the demonstrations' {k}/{n}"
+    else:
+        target = f"seeds at ≥ the demonstrations' return {demo['return']:.1f}"
+    header = ["method", "seeds", "final return: IQM [95% CI]",
+              "reached the goal, final policy per seed" if goal else "reached the goal",
+              target, "P(LOGO > method) [95% CI]", "IQM difference LOGO − method [95% CI]"]
+    rows = []
+    for arm in ARMS:
+        x = returns[arm]
+        if not x:
+            rows.append([ARM_NAMES[arm], "0"] + ["—"] * (len(header) - 2))
+            continue
+        lo, hi = interval(x, iqm)
+        cells = [ARM_NAMES[arm], str(len(x)), f"{iqm(x):.1f} [{lo:.1f}, {hi:.1f}]"]
+        if goal:
+            counts = [p["mean_action"]["summary"]["reached"] for _, p in seeds[arm]]
+            cells.append(", ".join(str(c[0]) for c in counts) + f" of {counts[0][1]}")
+            rate = demo["reached"][0] / demo["reached"][1]
+            met = sum(c[0] / c[1] >= rate for c in counts)
+        else:
+            cells.append("— (no goal)")
+            met = sum(v >= demo["return"] for v in x)
+        cells.append(f"{met} of {len(x)}")
+        y = returns["logo"]
+        if arm == "logo" or not y:
+            cells += ["—", "—"]
+        else:
+            p_lo, p_hi = interval_two(y, x, probability_of_improvement)
+            d_lo, d_hi = interval_two(y, x, lambda a, b: iqm(a) - iqm(b))
+            cells.append(f"{probability_of_improvement(y, x):.2f} [{p_lo:.2f}, {p_hi:.2f}]")
+            cells.append(f"{iqm(y) - iqm(x):.1f} [{d_lo:.1f}, {d_hi:.1f}]")
+        rows.append(cells)
+    groups = ";".join(f"suite/{name}/{arm}" for arm in ARMS)
+    demos_option = (f"demos={demo['reached'][0]}/{demo['reached'][1]}" if goal
+                    else f"demos_return={demo['return']}")
+    lines = [f"<!-- check suite rows={groups} {demos_option} -->",
+             "| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def keep_seed(source: Path, dest: Path):
+    """A finished seed's files for the results page: no checkpoints."""
+    dest.mkdir(parents=True, exist_ok=True)
+    for name in ("metrics.csv", "config.toml", "eval.json", "policy.eval.json", "bc.txt",
+                 "bc.json"):
+        if (source / name).is_file():
+            shutil.copy2(source / name, dest / name)
+
+
+def report(out: Path, names, keep: Path | None):
+    for name in names:
+        task = TASKS[name]
+        print(f"### {name}: {task['kind']}, {task['env_id']}, {task['budget']:,} samples\n")
+        print(task_table(out, name, keep) + "\n")
 
 
 def main(argv=None):
@@ -386,6 +518,11 @@ def main(argv=None):
     r.add_argument("--seeds", default="0..5")
     r.add_argument("--iterations", type=int, default=None,
                    help="fewer iterations than the budget's (a smoke test)")
+    p = sub.add_parser("report", help="each task's table of final policies")
+    p.add_argument("out", type=Path)
+    p.add_argument("tasks", nargs="*", default=list(TASKS))
+    p.add_argument("--keep", type=Path, default=None,
+                   help="copy the finished runs' files into KEEP/<task>/<method>/seed<N>")
     sub.add_parser("list", help="the tasks")
     args = parser.parse_args(argv)
     if args.command == "list":
@@ -398,6 +535,8 @@ def main(argv=None):
         parser.error(f"unknown task(s) {', '.join(unknown)}; the tasks: {', '.join(TASKS)}")
     if args.command == "run":
         run(args.out, args.tasks, args.seeds, args.iterations)
+    elif args.command == "report":
+        report(args.out, args.tasks, args.keep)
     else:
         demos(args.out, args.tasks, args.episodes, args.seed)
     return 0

@@ -65,6 +65,16 @@ impl SuccessRule {
     }
 }
 
+impl std::str::FromStr for SuccessRule {
+    type Err = String;
+
+    /// The config's spelling (`"task"`, `"terminated"`, `"none"`), for flags and Python.
+    fn from_str(text: &str) -> Result<Self, String> {
+        serde_json::from_value(serde_json::Value::String(text.into()))
+            .map_err(|_| format!("{text:?}: expected task, terminated or none"))
+    }
+}
+
 /// Runs one episode from `reset(seed)` to its end, acting with `act`.
 pub fn run_episode(
     env: &mut dyn Env,

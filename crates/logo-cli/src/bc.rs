@@ -1,6 +1,8 @@
 //! `logo bc`: behaviour cloning alone. The policy is fitted to a demonstration dataset by
 //! maximum likelihood (`logo_algo::bc`), scored on the task from fresh initial states,
 //! and written as a checkpoint that `logo eval`, `init_policy` and `logo_rl.load` read.
+//! The evaluation is kept beside it (`policy.safetensors` → `policy.eval.json`, a run's
+//! `eval.json` layout with the one policy "final"), so a study reads BC as it reads runs.
 
 use std::path::{Path, PathBuf};
 
@@ -55,6 +57,11 @@ pub struct BcArgs {
     /// Episodes of the evaluation after the fit.
     #[arg(long, default_value_t = final_eval::EPISODES)]
     episodes: usize,
+    /// Which evaluation episodes reached the goal: task (a sparse kind's goal, an env's
+    /// own success), terminated (a task that stops at its goal) or none. Overrides the
+    /// config's `success` (default: task).
+    #[arg(long, value_parser = parse_success)]
+    success: Option<SuccessRule>,
     #[command(flatten)]
     engine: EngineArgs,
 }
@@ -78,6 +85,8 @@ pub struct BcOutcome {
     pub report: BcReport,
     pub evaluation: Value,
     pub checkpoint: PathBuf,
+    /// Where the evaluation was written (`evaluation_path`).
+    pub evaluation_file: PathBuf,
     pub engine: String,
 }
 
@@ -128,7 +137,10 @@ impl BcJob {
             hidden,
             log_std_init: config.as_ref().map_or(0.0, |c| c.log_std_init),
             fit,
-            success: config.as_ref().map(|c| c.success).unwrap_or_default(),
+            success: args
+                .success
+                .or(config.as_ref().map(|c| c.success))
+                .unwrap_or_default(),
             episodes: args.episodes,
         })
     }
@@ -169,7 +181,21 @@ pub fn outcome_lines(job: &BcJob, outcome: &BcOutcome) -> Vec<String> {
     ];
     lines.extend(final_eval::reached_line(summary));
     lines.push(format!("policy: {}", outcome.checkpoint.display()));
+    lines.push(format!("evaluation: {}", outcome.evaluation_file.display()));
     lines
+}
+
+/// Where a BC checkpoint's evaluation goes: beside it, named after it (`policy.safetensors`
+/// → `policy.eval.json`), so that it never overwrites a run folder's own `eval.json`.
+pub fn evaluation_path(checkpoint: &Path) -> PathBuf {
+    let stem = checkpoint
+        .file_stem()
+        .map_or("policy".into(), |s| s.to_string_lossy());
+    checkpoint.with_file_name(format!("{stem}.eval.json"))
+}
+
+fn parse_success(text: &str) -> std::result::Result<SuccessRule, String> {
+    text.parse()
 }
 
 /// The job on the chosen engine.
@@ -221,10 +247,29 @@ pub fn clone_on<E: Engine>(engine: &E, job: &BcJob) -> Result<BcOutcome> {
     checkpoint.save(&job.out)?;
     let acting = fitted.acting(engine);
     let evaluation = final_eval::report(&spec.id, &acting, job.seed, job.episodes, job.success)?;
+    let evaluation_file = evaluation_path(&job.out);
+    let file = job
+        .out
+        .file_name()
+        .map(|f| f.to_string_lossy().into_owned());
+    let policies = [(
+        "final",
+        file.as_deref().unwrap_or(""),
+        0,
+        evaluation.clone(),
+    )];
+    final_eval::write(
+        &evaluation_file,
+        &spec.id,
+        job.seed,
+        job.episodes,
+        &policies,
+    )?;
     Ok(BcOutcome {
         report,
         evaluation,
         checkpoint: job.out.clone(),
+        evaluation_file,
         engine: engine.describe(),
     })
 }

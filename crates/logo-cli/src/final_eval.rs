@@ -122,10 +122,10 @@ pub fn report(
     Ok(Value::Object(out))
 }
 
-/// Writes `eval.json` into `run_dir` atomically: `policies` maps "final"/"best" to
-/// (checkpoint file, iteration, report).
+/// Writes the evaluation file `path` (a run's `eval.json`) atomically: `policies` maps
+/// "final"/"best" to (checkpoint file, iteration, report).
 pub fn write(
-    run_dir: &Path,
+    path: &Path,
     env_id: &str,
     seed: u64,
     episodes: usize,
@@ -150,8 +150,9 @@ pub fn write(
         ),
         "policies": by_name,
     });
-    let path = run_dir.join("eval.json");
-    let tmp = run_dir.join(format!("eval.json.tmp.{}", std::process::id()));
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(format!(".tmp.{}", std::process::id()));
+    let tmp = std::path::PathBuf::from(tmp);
     // Written, synced, then renamed (as checkpoints are): a crash leaves the old file or
     // the whole new one.
     let text = serde_json::to_string_pretty(&doc)? + "\n";
@@ -161,7 +162,7 @@ pub fn write(
             file.sync_all()
         })
         .with_context(|| format!("{}", tmp.display()))?;
-    std::fs::rename(&tmp, &path).with_context(|| format!("{}", path.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("{}", path.display()))?;
     Ok(())
 }
 

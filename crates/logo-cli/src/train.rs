@@ -422,7 +422,7 @@ fn end_of_run_evaluation<E: Engine>(
         let report = final_eval::report(env, &acting, seed, episodes, config.success)?;
         policies.push(("best", BEST, stored.meta.iteration, report));
     }
-    final_eval::write(out, env, seed, episodes, &policies)?;
+    final_eval::write(&out.join("eval.json"), env, seed, episodes, &policies)?;
     for (name, _, iteration, report) in &policies {
         let s = &report["mean_action"]["summary"];
         let reached = final_eval::reached_line(s).map_or(String::new(), |line| format!(", {line}"));

@@ -47,6 +47,8 @@ fn bc_writes_a_policy_that_eval_scores_and_a_run_starts_from() {
         "16,16",
         "--episodes",
         "3",
+        "--success",
+        "none",
         "--out",
         out.to_str().unwrap(),
     ]);
@@ -70,6 +72,26 @@ fn bc_writes_a_policy_that_eval_scores_and_a_run_starts_from() {
         "{scored}"
     );
     assert!(scored.contains("(bc iteration 0"), "{scored}");
+
+    // The evaluation kept beside the checkpoint is a run's eval.json for one policy: the
+    // episodes `logo eval --json` plays from the same fresh states, judged by --success.
+    let kept: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("bc.eval.json")).unwrap()).unwrap();
+    let final_ = &kept["policies"]["final"];
+    assert_eq!(final_["checkpoint"], "bc.safetensors");
+    assert_eq!(
+        final_["mean_action"]["summary"]["success_rate"],
+        serde_json::Value::Null
+    );
+    let json = cli().succeed(&["eval", "--checkpoint", out.to_str().unwrap(), "--json"]);
+    let played: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let returns = |episodes: &serde_json::Value| -> Vec<f64> {
+        let list = episodes["mean_action"]["episodes"].as_array().unwrap();
+        list.iter().map(|e| e["return"].as_f64().unwrap()).collect()
+    };
+    let (kept_returns, played_returns) = (returns(final_), returns(&played));
+    assert_eq!(kept_returns.len(), 3);
+    assert_eq!(kept_returns[..], played_returns[..3]);
 
     // A TRPO run from it: before its first step, the policy is BC's.
     let config = dir.join("trpo.toml");

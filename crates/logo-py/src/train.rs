@@ -241,7 +241,7 @@ fn register(make: Py<PyAny>, spec: SpecArg, raised: Raised) -> PyResult<Register
 #[pyfunction]
 #[pyo3(signature = (
     *, env_id, demos, out, seed, epochs, minibatch, learning_rate, learn_std, hidden,
-    episodes, engine = None, backend = None, dtype = None, env = None
+    episodes, success = "task", engine = None, backend = None, dtype = None, env = None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn bc(
@@ -256,11 +256,15 @@ pub fn bc(
     learn_std: bool,
     hidden: Vec<usize>,
     episodes: usize,
+    success: &str,
     engine: Option<&str>,
     backend: Option<&str>,
     dtype: Option<&str>,
     env: Option<(Py<PyAny>, SpecArg)>,
 ) -> PyResult<(PathBuf, String)> {
+    let success: SuccessRule = success
+        .parse()
+        .map_err(|e: String| PyValueError::new_err(format!("success={e}")))?;
     let engine = EngineArgs {
         engine: choice::<EngineKind>("engine", engine)?,
         backend: choice::<BackendKind>("backend", backend)?,
@@ -294,7 +298,7 @@ pub fn bc(
         hidden,
         log_std_init: 0.0,
         fit,
-        success: SuccessRule::default(),
+        success,
         episodes,
     };
     let result = py.detach(|| engine.with(logo_cli::bc::Cloning(&job)));
@@ -305,6 +309,7 @@ pub fn bc(
             let json = serde_json::json!({
                 "report": outcome.report,
                 "evaluation": outcome.evaluation,
+                "evaluation_file": outcome.evaluation_file,
                 "engine": outcome.engine,
             });
             Ok((outcome.checkpoint, json.to_string()))

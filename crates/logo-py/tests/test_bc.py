@@ -1,6 +1,8 @@
 """logo_rl.bc: behaviour cloning from Python, on logo-rl's envs and on a Gymnasium env of
 the user's own, and a BC-TRPO preset."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -52,6 +54,23 @@ def test_bc_on_a_gymnasium_env_of_ones_own(tmp_path):
     assert cloned.pairs == 150
     assert cloned.loss_after < cloned.loss_before
     assert cloned.evaluation["mean_action"]["summary"]["length"] == 200
+    # Pendulum reports no success of its own, and never terminates.
+    assert cloned.success_rate is None
+    kept = json.loads(cloned.evaluation_path.read_text())
+    assert cloned.evaluation_path == tmp_path / "p.eval.json"
+    assert kept["policies"]["final"]["mean_action"] == cloned.evaluation["mean_action"]
+    terminated = logo_rl.bc(trajectories, env="Pendulum-v1", out=tmp_path / "t.safetensors",
+                            epochs=20, hidden=(8,), episodes=2, success="terminated")
+    assert terminated.success_rate == 0.0
+    # A predicate of one's own: upright (cos θ > 0.9) at some step; recorded per episode.
+    upright = logo_rl.bc(trajectories, env="Pendulum-v1", out=tmp_path / "u.safetensors",
+                         epochs=20, hidden=(8,), episodes=2,
+                         success=lambda obs, info: bool(obs[0] > 0.9))
+    never = logo_rl.bc(trajectories, env="Pendulum-v1", out=tmp_path / "n.safetensors",
+                       epochs=20, hidden=(8,), episodes=2, success=lambda obs, info: False)
+    assert never.success_rate == 0.0
+    assert upright.success_rate is not None
+    assert [e["reached"] for e in never.evaluation["mean_action"]["episodes"]] == [False, False]
 
 
 def test_bad_bc_arguments_are_python_errors(tmp_path, idp_demos):
@@ -59,6 +78,10 @@ def test_bad_bc_arguments_are_python_errors(tmp_path, idp_demos):
         logo_rl.bc(idp_demos, env=IDP, epochs=0)
     with pytest.raises(TypeError, match="hidden"):
         logo_rl.bc(idp_demos, env=IDP, hidden=("16",))
+    with pytest.raises(ValueError, match="success=.*expected task, terminated or none"):
+        logo_rl.bc(idp_demos, env=IDP, success="always", out=tmp_path / "s.safetensors")
+    with pytest.raises(ValueError, match="logo-rl's own env"):
+        logo_rl.bc(idp_demos, env=IDP, success=lambda obs, info: True)
     with pytest.raises(FileNotFoundError, match="no_such"):
         logo_rl.bc(tmp_path / "no_such", env=IDP)
     with pytest.raises(logo_rl.LogoError, match="act"):

@@ -11,6 +11,7 @@ from typing import Any, Callable, Sequence
 from . import _logo_rl
 from .custom import demos_path, prepare
 from .policy import Policy
+from .wrappers import judged
 
 
 @dataclass(frozen=True)
@@ -26,6 +27,8 @@ class Cloned:
     """...and after the fit."""
     evaluation: dict[str, Any]
     """The mean action over fresh episodes, as sent and clipped (``eval.json``'s layout)."""
+    evaluation_path: Path
+    """Where the evaluation is kept: beside the checkpoint (``policy.eval.json``)."""
 
     @property
     def policy(self) -> Policy:
@@ -50,6 +53,7 @@ def bc(
     learn_std: bool = True,
     hidden: Sequence[int] = (128, 128),
     episodes: int = 20,
+    success: str | Callable[[Any, dict], bool] = "task",
     engine: str | None = None,
     backend: str | None = None,
     dtype: str | None = None,
@@ -62,7 +66,11 @@ def bc(
     returning a new env. ``demos``: as :func:`logo_rl.train` takes them (a Minari dataset,
     its folder or id, a ``.npy`` of ``[observation ‖ action]`` rows, or a list of
     ``(observations, actions)`` trajectories). ``epochs``, ``minibatch``,
-    ``learning_rate``, ``learn_std``: as ``[init]``'s keys (docs/config.md).
+    ``learning_rate``, ``learn_std``: as ``[init]``'s keys (docs/config.md). ``success``:
+    which evaluation episodes reached the goal, as :func:`logo_rl.train` takes it
+    (``"task"``, ``"terminated"``, ``"none"``, or a callable ``(obs, info) -> bool``
+    judging each step of ``env``). The evaluation is also written beside the checkpoint
+    (``policy.safetensors`` → ``policy.eval.json``, a run's ``eval.json`` layout).
     """
     for name, value in (("epochs", epochs), ("minibatch", minibatch), ("episodes", episodes)):
         if not isinstance(value, int) or isinstance(value, bool):
@@ -72,6 +80,15 @@ def bc(
     hidden = list(hidden)
     if not all(isinstance(h, int) and not isinstance(h, bool) for h in hidden):
         raise TypeError(f"hidden={hidden!r}: expected a sequence of integers")
+    if callable(success):
+        if isinstance(env, str) and env in _logo_rl.env_ids():
+            raise ValueError(
+                "success= as a callable judges the steps of a Gymnasium env; logo-rl's own "
+                f"env {env!r} takes success = \"task\", \"terminated\" or \"none\""
+            )
+        env, success = judged(env, success), "task"
+    elif not isinstance(success, str):
+        raise TypeError(f"success={success!r}: expected a string or a callable")
     python_env = None
     if isinstance(env, str) and env in _logo_rl.env_ids():
         env_id = env
@@ -96,6 +113,7 @@ def bc(
         learn_std=bool(learn_std),
         hidden=hidden,
         episodes=episodes,
+        success=success,
         engine=engine,
         backend=backend,
         dtype=dtype,
@@ -109,4 +127,5 @@ def bc(
         loss_before=fit["loss_before"],
         loss_after=fit["loss_after"],
         evaluation=report["evaluation"],
+        evaluation_path=Path(report["evaluation_file"]),
     )

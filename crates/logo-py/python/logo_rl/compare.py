@@ -15,6 +15,7 @@ import numpy as np
 from . import _logo_rl
 from .run import _plain, train
 from .presets import preset_path
+from .stats import interval, interval_two, iqm, probability_of_improvement
 
 METHODS = ("logo", "trpo", "gail", "pofd", "bc-trpo", "dapg")
 
@@ -125,13 +126,6 @@ def _returns_at(run_dir: Path, budget: float) -> float:
     return float(np.interp(budget, x[keep], y[keep]))
 
 
-def _iqm(values: np.ndarray) -> float:
-    """The mean of the middle half (scipy's trim_mean at 25%, as rliable's IQM)."""
-    v = np.sort(values)
-    cut = int(math.floor(0.25 * len(v)))
-    return float(v[cut:len(v) - cut].mean())
-
-
 def _answer(out: Path, algorithms, seeds, budget, reps):
     rng = np.random.default_rng(0)
     returns = {m: np.array([_returns_at(out / m / f"seed{s}", budget) for s in seeds])
@@ -139,17 +133,13 @@ def _answer(out: Path, algorithms, seeds, budget, reps):
     rows = []
     for m in algorithms:
         x = returns[m]
-        boot = np.array([_iqm(rng.choice(x, len(x))) for _ in range(reps)])
+        lo, hi = interval(x, iqm, reps, rng)
         row = {"method": m, "seeds": len(x), "samples": budget,
-               "returns": x.tolist(), "iqm": _iqm(x),
-               "iqm_lo": float(np.percentile(boot, 2.5)),
-               "iqm_hi": float(np.percentile(boot, 97.5))}
+               "returns": x.tolist(), "iqm": iqm(x), "iqm_lo": lo, "iqm_hi": hi}
         if "logo" in returns and m != "logo":
             y = returns["logo"]
-            p = lambda a, b: float(np.mean((a[:, None] > b[None, :]) + 0.5 * (a[:, None] == b[None, :])))  # noqa: E731
-            draws = [p(rng.choice(y, len(y)), rng.choice(x, len(x))) for _ in range(reps)]
-            row.update(p_logo_better=p(y, x), p_lo=float(np.percentile(draws, 2.5)),
-                       p_hi=float(np.percentile(draws, 97.5)))
+            p_lo, p_hi = interval_two(y, x, probability_of_improvement, reps, rng)
+            row.update(p_logo_better=probability_of_improvement(y, x), p_lo=p_lo, p_hi=p_hi)
         rows.append(row)
     try:
         import pandas

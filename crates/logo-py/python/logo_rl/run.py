@@ -8,7 +8,6 @@ import os
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-import gymnasium as gym
 import numpy as np
 
 try:
@@ -20,6 +19,7 @@ from . import _logo_rl
 from .custom import PREFIX, demos_path, prepare
 from .policy import Policy
 from .presets import preset_path
+from .wrappers import judged
 
 
 class Run:
@@ -144,7 +144,7 @@ def train(
                 "own env takes success = \"task\", \"terminated\" or \"none\")"
             )
         del overrides["success"]
-        env = _judged(env, predicate)
+        env = judged(env, predicate)
         if resume is None:
             overrides["success"] = "task"
     if resume is not None:
@@ -204,24 +204,6 @@ def train(
         **common,
     )
     return Run(path)
-
-
-def _judged(env, predicate) -> Any:
-    """`env` (an id or a maker) made with a Success wrapper, under the same name."""
-    from .wrappers import Success
-
-    if isinstance(env, str):
-        make, name = (lambda: gym.make(env)), env
-    elif callable(env) and not isinstance(env, gym.Env):
-        make, name = env, getattr(env, "__name__", type(env).__name__)
-    else:
-        return env  # prepare() says what is wrong with it
-
-    def judged():
-        return Success(make(), predicate)
-
-    judged.__name__ = name
-    return judged
 
 
 def _python_env(env, saved_id: str | None) -> tuple[Callable, dict[str, Any]]:

@@ -159,3 +159,20 @@ class Success(gym.Wrapper):
                 f"the success predicate returned {verdict!r}, expected a bool"
             ) from error
         return obs, reward, terminated, truncated, {**info, "is_success": reached}
+
+
+def judged(env, predicate) -> Any:
+    """``env`` (a Gymnasium id or a maker) made with a :class:`Success` wrapper of
+    ``predicate``, under the same name: what ``success=`` as a callable does."""
+    if isinstance(env, str):
+        make, name = (lambda: gym.make(env)), env
+    elif callable(env) and not isinstance(env, gym.Env):
+        make, name = env, getattr(env, "__name__", type(env).__name__)
+    else:
+        return env  # prepare() says what is wrong with it
+
+    def made():
+        return Success(make(), predicate)
+
+    made.__name__ = name
+    return made
