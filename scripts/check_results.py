@@ -403,52 +403,71 @@ def suite_finals(group):
     return finals
 
 
+SUITE_ARMS = {"logo": "LOGO (new-task preset)", "trpo": "TRPO", "bc": "BC"}
+
+
 def check_suite(opts, header, body, compare, wrong):
-    """The `suite` kind (see the module's docstring); returns how many interval cells it
-    checked (`compare` counts the others)."""
+    """The `suite` kind (see the module's docstring); returns how many cells it checked
+    itself (`compare`, for numbers to their printed precision, counts its own)."""
     intervals = 0
     groups = opts["rows"].split(";")
+
+    def exact(r, c, text):
+        """A cell without numbers to round (a label, "—"): the same text."""
+        nonlocal intervals
+        intervals += 1
+        if body[r][c] != text:
+            wrong.append((r + 1, header[c], body[r][c], text))
+
     if len(groups) != len(body):
         raise SystemExit(f"suite: {len(groups)} groups for {len(body)} rows")
+    goal = "demos" in opts
+    target = f"seeds at ≥ the demonstrations' {opts['demos']}" if goal else (
+        f"seeds at ≥ the demonstrations' return {float(opts['demos_return']):.1f}")
+    expected = ["method", "seeds", "final return: IQM [95% CI]",
+                "reached the goal, final policy per seed" if goal else "reached the goal",
+                target, "P(LOGO > method) [95% CI]", "IQM difference LOGO − method [95% CI]"]
+    if header != expected:
+        raise SystemExit(f"suite: header {header} is not suite.py's {expected}")
     finals = [suite_finals(g) for g in groups]
     returns = [[f["return"] for f in group] for group in finals]
     logo = returns[0]
-    for r, (group, values) in enumerate(zip(finals, returns)):
+    for r, (path, group, values) in enumerate(zip(groups, finals, returns)):
+        exact(r, 0, SUITE_ARMS.get(Path(path).name, Path(path).name))
         compare(r, 1, str(len(values)))
         if not values:
+            for c in range(2, len(header)):
+                exact(r, c, "—")
             continue
-        for c in range(2, len(header)):
-            name = header[c]
-            if name.startswith("final return"):
-                spread = max(values) - min(values)
-                lo, hi = bootstrap_interval(values, iqm)
-                intervals += 1
-                if not interval_agrees(body[r][c], iqm(values), (lo, hi), 0.05 * spread):
-                    wrong.append((r + 1, name, body[r][c], f"{iqm(values):.1f} [{lo:.1f}, {hi:.1f}]"))
-            elif name.startswith("reached the goal"):
-                if "per seed" in name:
-                    counts = [f["reached"] for f in group]
-                    compare(r, c, ", ".join(str(k) for k, _ in counts) + f" of {counts[0][1]}")
-            elif name.startswith("seeds at ≥ the demonstrations"):
-                if "demos" in opts:
-                    k, n = (int(v) for v in opts["demos"].split("/"))
-                    met = sum(f["reached"][0] / f["reached"][1] >= k / n for f in group)
-                else:
-                    met = sum(v >= float(opts["demos_return"]) for v in values)
-                compare(r, c, f"{met} of {len(values)}")
-            elif name.startswith("P(LOGO >") or name.startswith("IQM difference"):
-                if r == 0:
-                    continue
-                p = name.startswith("P(")
-                stat = probability_of_improvement if p else (lambda u, v: iqm(u) - iqm(v))
-                tolerance = 0.05 if p else 0.05 * (max(logo + values) - min(logo + values))
-                point = stat(logo, values)
-                lo, hi = bootstrap_two(logo, values, stat)
-                intervals += 1
-                if not interval_agrees(body[r][c], point, (lo, hi), tolerance):
-                    wrong.append((r + 1, name, body[r][c], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
-            else:
-                raise SystemExit(f"suite: column {name!r} is not suite.py's")
+        spread = max(values) - min(values)
+        lo, hi = bootstrap_interval(values, iqm)
+        intervals += 1
+        if not interval_agrees(body[r][2], iqm(values), (lo, hi), 0.05 * spread):
+            wrong.append((r + 1, header[2], body[r][2], f"{iqm(values):.1f} [{lo:.1f}, {hi:.1f}]"))
+        if goal:
+            counts = [f["reached"] for f in group]
+            compare(r, 3, ", ".join(str(k) for k, _ in counts) + f" of {counts[0][1]}")
+            k, n = (int(v) for v in opts["demos"].split("/"))
+            met = sum(a / b >= k / n for a, b in counts)
+        else:
+            exact(r, 3, "— (no goal)")
+            met = sum(v >= float(opts["demos_return"]) for v in values)
+        compare(r, 4, f"{met} of {len(values)}")
+        if r == 0 or not logo:
+            exact(r, 5, "—")
+            exact(r, 6, "—")
+            continue
+        # P over 5 × 5 pairs moves in steps of 0.04: its ends are checked as versus does.
+        point = probability_of_improvement(logo, values)
+        intervals += 1
+        if not band_agrees(body[r][5], point, bootstrap_two_draws(logo, values, probability_of_improvement), 0.0):
+            wrong.append((r + 1, header[5], body[r][5], f"{point:.2f}"))
+        difference = lambda u, v: iqm(u) - iqm(v)  # noqa: E731
+        point = difference(logo, values)
+        lo, hi = bootstrap_two(logo, values, difference)
+        intervals += 1
+        if not interval_agrees(body[r][6], point, (lo, hi), 0.05 * (max(logo + values) - min(logo + values))):
+            wrong.append((r + 1, header[6], body[r][6], f"{point:.1f} [{lo:.1f}, {hi:.1f}]"))
     return intervals
 
 

@@ -414,6 +414,11 @@ def bc_evaluation(folder: Path):
     checkpoint = folder / "policy.safetensors"
     if (folder / "policy.eval.json").is_file() or not checkpoint.is_file():
         return
+    if (folder / "bc.json").is_file():
+        # A Python env's BC (logo_rl.bc), which `logo eval` cannot make: logo_rl.bc writes
+        # the file itself since it judges by the task's success rule.
+        raise SystemExit(f"{folder}: BC made before logo_rl.bc kept its evaluation (and "
+                         "judged it by the task's rule): delete the folder and run again")
     env = dict(os.environ, LD_LIBRARY_PATH=str(ROOT / "third_party" / "mujoco" / "lib"))
     played = json.loads(subprocess.run(
         [LOGO, "eval", "--checkpoint", str(checkpoint), "--json"],
@@ -428,7 +433,8 @@ def bc_evaluation(folder: Path):
 
 
 def task_table(out: Path, name: str, keep: Path | None) -> str:
-    """One task's table and its check comment (the groups named as kept under docs)."""
+    """One task's table and its check comment, whose groups name the folders --keep
+    copies to (relative to docs/results/; docs/results/suite without --keep)."""
     runs = out / name / "runs"
     seeds: dict[str, list[tuple[int, dict]]] = {}
     for arm in ARMS:
@@ -479,7 +485,10 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
             cells.append(f"{probability_of_improvement(y, x):.2f} [{p_lo:.2f}, {p_hi:.2f}]")
             cells.append(f"{iqm(y) - iqm(x):.1f} [{d_lo:.1f}, {d_hi:.1f}]")
         rows.append(cells)
-    groups = ";".join(f"suite/{name}/{arm}" for arm in ARMS)
+    docs = ROOT / "docs" / "results"
+    kept = keep.resolve() if keep is not None else docs / "suite"
+    base = kept.relative_to(docs) if kept.is_relative_to(docs) else kept
+    groups = ";".join(f"{base}/{name}/{arm}" for arm in ARMS)
     demos_option = (f"demos={demo['reached'][0]}/{demo['reached'][1]}" if goal
                     else f"demos_return={demo['return']}")
     lines = [f"<!-- check suite rows={groups} {demos_option} -->",

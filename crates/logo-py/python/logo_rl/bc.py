@@ -89,6 +89,9 @@ def bc(
         env, success = judged(env, success), "task"
     elif not isinstance(success, str):
         raise TypeError(f"success={success!r}: expected a string or a callable")
+    elif success not in ("task", "terminated", "none"):
+        raise ValueError(f"success={success!r}: expected task, terminated or none, or a "
+                         "callable (obs, info) -> bool")
     python_env = None
     if isinstance(env, str) and env in _logo_rl.env_ids():
         env_id = env
