@@ -465,8 +465,7 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
         if not x:
             rows.append([ARM_NAMES[arm], "0"] + ["—"] * (len(header) - 2))
             continue
-        lo, hi = interval(x, iqm)
-        cells = [ARM_NAMES[arm], str(len(x)), f"{iqm(x):.1f} [{lo:.1f}, {hi:.1f}]"]
+        cells = [ARM_NAMES[arm], str(len(x)), estimate(iqm(x), interval(x, iqm), 1)]
         if goal:
             counts = [p["mean_action"]["summary"]["reached"] for _, p in seeds[arm]]
             cells.append(", ".join(str(c[0]) for c in counts) + f" of {counts[0][1]}")
@@ -480,10 +479,10 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
         if arm == "logo" or not y:
             cells += ["—", "—"]
         else:
-            p_lo, p_hi = interval_two(y, x, probability_of_improvement)
-            d_lo, d_hi = interval_two(y, x, lambda a, b: iqm(a) - iqm(b))
-            cells.append(f"{probability_of_improvement(y, x):.2f} [{p_lo:.2f}, {p_hi:.2f}]")
-            cells.append(f"{iqm(y) - iqm(x):.1f} [{d_lo:.1f}, {d_hi:.1f}]")
+            difference = lambda a, b: iqm(a) - iqm(b)  # noqa: E731
+            cells.append(estimate(probability_of_improvement(y, x),
+                                  interval_two(y, x, probability_of_improvement), 2))
+            cells.append(estimate(difference(y, x), interval_two(y, x, difference), 1))
         rows.append(cells)
     docs = ROOT / "docs" / "results"
     kept = keep.resolve() if keep is not None else docs / "suite"
@@ -495,6 +494,17 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
              "| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
     lines += ["| " + " | ".join(r) + " |" for r in rows]
     return "\n".join(lines)
+
+
+def number(x: float, digits: int) -> str:
+    """x with a typographic minus, as the results pages print numbers."""
+    return f"{x:.{digits}f}".replace("-", "−")
+
+
+def estimate(point: float, interval: tuple[float, float], digits: int) -> str:
+    """"POINT [LO, HI]"."""
+    lo, hi = interval
+    return f"{number(point, digits)} [{number(lo, digits)}, {number(hi, digits)}]"
 
 
 def keep_seed(source: Path, dest: Path):
