@@ -90,8 +90,12 @@ class FixedCells:
     @staticmethod
     def make():
         import gymnasium as gym
-        import gymnasium_robotics
 
+        try:
+            import gymnasium_robotics
+        except ImportError:
+            raise SystemExit("the maze task needs Gymnasium-Robotics, which setup.sh does not "
+                             "install: .venv/bin/pip install gymnasium-robotics==1.4.0")
         gym.register_envs(gymnasium_robotics)
 
         class Fixed(gym.Wrapper):

@@ -116,6 +116,15 @@ VERSUS = """<!-- check versus rows=variants-idp/logo-inverted_double_pendulum>re
 | sparse IDP | 200k | 8033 [4536, 9354] | 5 | 8994 [4225, 9342] | 5 | 0.52 [0.00, 0.88] | −961 [−4092, 3996] | unresolved |
 """
 
+# A suite task's final policies (suite.py report): goals per seed, the target, P and IQMs.
+SUITE = """<!-- check suite rows=suite/reacher-goal/logo;suite/reacher-goal/trpo;suite/reacher-goal/bc demos=20/20 -->
+| method | seeds | final return: IQM [95% CI] | reached the goal, final policy per seed | seeds at ≥ the demonstrations' 20/20 | P(LOGO > method) [95% CI] | IQM difference LOGO − method [95% CI] |
+| --- | --- | --- | --- | --- | --- | --- |
+| LOGO (new-task preset) | 5 | 41.8 [41.0, 42.0] | 20, 20, 20, 20, 20 of 20 | 5 of 5 | — | — |
+| TRPO | 5 | 41.5 [39.2, 41.9] | 20, 20, 20, 20, 20 of 20 | 5 of 5 | 0.60 [0.20, 1.00] | 0.2 [−0.5, 2.5] |
+| BC | 5 | 1.9 [0.9, 2.4] | 6, 4, 4, 8, 9 of 20 | 0 of 5 | 1.00 [1.00, 1.00] | 39.9 [39.0, 40.8] |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -129,7 +138,7 @@ def check(text):
 def main():
     failures = []
     goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS,
-             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS)
+             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS, SUITE)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -186,6 +195,13 @@ def main():
         "a wrong difference interval": VERSUS.replace("[−4092, 3996]", "[−4092, −100]"),
         "a wrong setting": CONFIG.replace("| 0.01 |", "| 0.2 |"),
         "a setting the file lacks": CONFIG.replace("[guidance] delta0", "[guidance] delta"),
+        "a suite task's wrong goal count": SUITE.replace("6, 4, 4, 8, 9", "6, 4, 4, 8, 8"),
+        "a suite task's wrong IQM": SUITE.replace("41.5 [39.2", "41.4 [39.2"),
+        "a suite task's wrong P": SUITE.replace("0.60 [0.20", "0.64 [0.20"),
+        "a suite task's wrong count at the target": SUITE.replace("| 0 of 5 |", "| 1 of 5 |"),
+        "a suite task's target other than its comment's": SUITE.replace("demonstrations' 20/20 |", "demonstrations' 19/20 |"),
+        "a suite task's rows swapped": SUITE.replace("| TRPO | 5 |", "| BC | 5 |", 1),
+        "a suite task's P on LOGO's own row": SUITE.replace("| 5 of 5 | — | — |", "| 5 of 5 | 0.50 [0.00, 1.00] | — |"),
     }
     for name, text in cases.items():
         code, out = check(text)
