@@ -23,7 +23,8 @@ prints each task's table (the final policies' returns as IQM with 95% bootstrap 
 how often each seed's final policy reached the goal, the target against the
 demonstrations, P(LOGO > method)) with the check comment scripts/check_results.py reads;
 --keep copies the finished runs' files into DOCS/<task>/<method>/seed<N> (metrics,
-config, eval.json; BC's policy.eval.json and log) for the results page.
+config, eval.json; BC's policy.eval.json and log) for the results page, and draws LOGO's
+and TRPO's training curves into DOCS/<task>.png.
 """
 
 import argparse
@@ -520,11 +521,34 @@ def keep_seed(source: Path, dest: Path):
             shutil.copy2(source / name, dest / name)
 
 
+def learning_figure(keep: Path, name: str):
+    """LOGO's and TRPO's training curves, IQM over seeds with 95% bands: the share of
+    sampled episodes at the goal (the return where the task has none), as
+    KEEP/<task>.png and its data as .csv."""
+    task = TASKS[name]
+    metric, what = (("train_sparse_return", "sampled episodes' return")
+                    if task["success"] == "none" else
+                    ("train_success", "share of sampled episodes at the goal"))
+    groups = [keep / name / arm for arm in ("logo", "trpo") if (keep / name / arm).is_dir()]
+    if not groups:
+        return
+    env = dict(os.environ, LD_LIBRARY_PATH=str(ROOT / "third_party" / "mujoco" / "lib"))
+    labels = [f"--label={arm}={ARM_NAMES[arm]}" for arm in ("logo", "trpo")
+              if (keep / name / arm).is_dir()]
+    subprocess.run([LOGO, "plot", *map(str, groups), "--metric", metric, "--stat", "iqm",
+                    "--band", "ci", "--smooth", "5", *labels,
+                    "--title", f"{name}: {what} (IQM, 95% band)",
+                    "--out", str(keep / f"{name}.png")],
+                   check=True, env=env, stdout=subprocess.DEVNULL)
+
+
 def report(out: Path, names, keep: Path | None):
     for name in names:
         task = TASKS[name]
         print(f"### {name}: {task['kind']}, {task['env_id']}, {task['budget']:,} samples\n")
         print(task_table(out, name, keep) + "\n")
+        if keep is not None:
+            learning_figure(keep, name)
 
 
 def main(argv=None):
