@@ -3,7 +3,7 @@
 # runs (docs/results/fig1/<task>/<method>/ and the five-seed LOGO arm), read up to 2M: the
 # IQM over seeds with its 95% band, the LOGO paper's behaviour and expert lines, and the
 # expert measured here where its run is kept (dense-reward TRPO, configs/expert/: the mean
-# of its last 10 evaluations).
+# of its last 10% of evaluations, as `logo summary`'s "mean of last 10%").
 # Usage: scripts/experiments/fig1_plots.sh   (LOGO=path/to/logo to use another binary)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -19,7 +19,8 @@ for t in hopper:Hopper walker2d:Walker2d halfcheetah:HalfCheetah; do
   expert=docs/results/fig1/$n/expert/seed0/metrics.csv
   if [ -f "$expert" ]; then
     level=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "eval_dense_return") c = i; next }
-                     { v[NR] = $c } END { for (i = NR - 9; i <= NR; i++) s += v[i]; printf "%.0f", s / 10 }' "$expert")
+                     $c != "NaN" { v[++n] = $c }
+                     END { k = int((n + 9) / 10); for (i = n - k + 1; i <= n; i++) s += v[i]; printf "%.0f", s / k }' "$expert")
     args+=(--hline "expert here (dense TRPO, 5M)=$level")
   fi
   "$logo" plot "${args[@]}" --max-samples 2M --stat iqm --band ci --smooth 5 \
