@@ -323,6 +323,10 @@ def configs(out: Path, name: str) -> list[Path]:
             if not line.split("=")[0].strip() in ("env", "success", "iterations")]
     body = "\n".join(kept).replace(
         'demos = "../../data/logo/hopper"', f"demos = {toml_value(str(demos))}")
+    if task["success"] == "none":
+        # No goal to read: δ_k decays on the return, as LOGO's own (the preset's "success"
+        # needs a success rule).
+        body = body.replace('\ndecay_on = "success"', '\ndecay_on = "return"  # the task has no goal')
     folder = out / "configs"
     folder.mkdir(parents=True, exist_ok=True)
     logo = folder / "logo.toml"
@@ -376,6 +380,8 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None):
                 logo_rl.train(resume=run_dir, env=task["env"], progress=False)
                 continue
             arm_keys = {"demos": demos} if arm == "logo" else {"guidance": None}
+            if arm == "logo" and task["success"] == "none":
+                arm_keys["guidance"] = {"decay_on": "return"}  # as configs() does
             logo_rl.train("new-task", env=task["env"], out=run_dir, seed=seed, iterations=n,
                           success=task["success"], progress=False, **arm_keys)
         bc = folder / "runs" / "bc" / f"seed{seed}"
