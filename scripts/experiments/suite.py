@@ -44,6 +44,8 @@ from logo_rl.stats import interval, interval_two, iqm, probability_of_improvemen
 ROOT = Path(__file__).resolve().parents[2]
 PRESET = ROOT / "configs" / "templates" / "new_task.toml"
 LOGO = os.environ.get("LOGO", str(ROOT / "target" / "release" / "logo"))
+# The environment every `logo` subprocess runs in: MuJoCo's library from the checkout.
+LOGO_ENVIRONMENT = dict(os.environ, LD_LIBRARY_PATH=str(ROOT / "third_party" / "mujoco" / "lib"))
 
 # Reacher's two links (MJCF: the second body 0.1 from the first, the fingertip 0.11
 # further), for the demonstrator's inverse kinematics.
@@ -346,12 +348,11 @@ def run(out: Path, names, seeds: str, iterations: int | None = None):
             run_python(folder, name, seeds, iterations)
             continue
         logo, trpo = configs(folder, name)
-        env = dict(os.environ, LD_LIBRARY_PATH=str(ROOT / "third_party" / "mujoco" / "lib"))
         sweep = [LOGO, "sweep", str(logo), str(trpo), "--seeds", seeds, "--jobs", "1",
                  "--threads", "1", "--out", str(folder / "runs")]
         if iterations is not None:  # a shorter run than the budget (a smoke test)
             sweep += ["--iterations", str(iterations)]
-        subprocess.run(sweep, check=True, env=env)
+        subprocess.run(sweep, check=True, env=LOGO_ENVIRONMENT)
         for seed in seed_range(seeds):
             bc = folder / "runs" / "bc" / f"seed{seed}"
             if (bc / "policy.safetensors").is_file():
@@ -360,7 +361,7 @@ def run(out: Path, names, seeds: str, iterations: int | None = None):
             with open(bc / "bc.txt", "w") as log:
                 subprocess.run([LOGO, "bc", "--config", str(logo), "--seed", str(seed),
                                 "--out", str(bc / "policy.safetensors")],
-                               check=True, env=env, stdout=log)
+                               check=True, env=LOGO_ENVIRONMENT, stdout=log)
 
 
 def run_python(folder: Path, name: str, seeds: str, iterations: int | None):
@@ -430,10 +431,9 @@ def bc_evaluation(folder: Path):
         # the file itself since it judges by the task's success rule.
         raise SystemExit(f"{folder}: BC made before logo_rl.bc kept its evaluation (and "
                          "judged it by the task's rule): delete the folder and run again")
-    env = dict(os.environ, LD_LIBRARY_PATH=str(ROOT / "third_party" / "mujoco" / "lib"))
     played = json.loads(subprocess.run(
         [LOGO, "eval", "--checkpoint", str(checkpoint), "--json"],
-        check=True, env=env, capture_output=True, text=True).stdout)
+        check=True, env=LOGO_ENVIRONMENT, capture_output=True, text=True).stdout)
     final = {"checkpoint": checkpoint.name, "iteration": 0,
              "mean_action": played["mean_action"], "clipped": played["clipped"]}
     doc = {"env": played["env"], "seed": int(folder.name[4:]),
@@ -538,14 +538,13 @@ def learning_figure(keep: Path, name: str):
     groups = [keep / name / arm for arm in ("logo", "trpo") if (keep / name / arm).is_dir()]
     if not groups:
         return
-    env = dict(os.environ, LD_LIBRARY_PATH=str(ROOT / "third_party" / "mujoco" / "lib"))
     labels = [f"--label={arm}={ARM_NAMES[arm]}" for arm in ("logo", "trpo")
               if (keep / name / arm).is_dir()]
     subprocess.run([LOGO, "plot", *map(str, groups), "--metric", metric, "--stat", "iqm",
                     "--band", "ci", "--smooth", "5", *labels,
                     "--title", f"{name}: {what} (IQM, 95% band)",
                     "--out", str(keep / f"{name}.png")],
-                   check=True, env=env, stdout=subprocess.DEVNULL)
+                   check=True, env=LOGO_ENVIRONMENT, stdout=subprocess.DEVNULL)
 
 
 def report(out: Path, names, keep: Path | None):

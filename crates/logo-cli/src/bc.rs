@@ -60,7 +60,7 @@ pub struct BcArgs {
     /// Which evaluation episodes reached the goal: task (a sparse kind's goal, an env's
     /// own success), terminated (a task that stops at its goal) or none. Overrides the
     /// config's `success` (default: task).
-    #[arg(long, value_parser = parse_success)]
+    #[arg(long)]
     success: Option<SuccessRule>,
     #[command(flatten)]
     engine: EngineArgs,
@@ -192,10 +192,6 @@ pub fn evaluation_path(checkpoint: &Path) -> PathBuf {
         .file_stem()
         .map_or("policy".into(), |s| s.to_string_lossy());
     checkpoint.with_file_name(format!("{stem}.eval.json"))
-}
-
-fn parse_success(text: &str) -> std::result::Result<SuccessRule, String> {
-    text.parse()
 }
 
 /// The job on the chosen engine.
