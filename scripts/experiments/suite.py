@@ -326,9 +326,11 @@ def configs(out: Path, name: str) -> list[Path]:
     body = "\n".join(kept).replace(
         'demos = "../../data/logo/hopper"', f"demos = {toml_value(str(demos))}")
     if task["success"] == "none":
-        # No goal to read: δ_k decays on the return, as LOGO's own (the preset's "success"
-        # needs a success rule).
+        # No goal to read (the preset's "success" needs a success rule), and decaying δ_k on
+        # the return let the guidance go at a quarter of the demonstrations' return on the
+        # delayed Hopper: δ_k is held (docs/findings/suite.md, "Why the decay held LOGO back").
         body = body.replace('\ndecay_on = "success"', '\ndecay_on = "return"  # the task has no goal')
+        body = body.replace('\nalpha = 0.9', '\nalpha = 1.0  # no goal: δ_k held')
     folder = out / "configs"
     folder.mkdir(parents=True, exist_ok=True)
     logo = folder / "logo.toml"
@@ -382,7 +384,7 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None):
                 continue
             arm_keys = {"demos": demos} if arm == "logo" else {"guidance": None}
             if arm == "logo" and task["success"] == "none":
-                arm_keys["guidance"] = {"decay_on": "return"}  # as configs() does
+                arm_keys["guidance"] = {"decay_on": "return", "alpha": 1.0}  # as configs()
             logo_rl.train("new-task", env=task["env"], out=run_dir, seed=seed, iterations=n,
                           success=task["success"], progress=False, **arm_keys)
         bc = folder / "runs" / "bc" / f"seed{seed}"

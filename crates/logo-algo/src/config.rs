@@ -580,7 +580,8 @@ impl TrainConfig {
         {
             return Err(
                 "guidance.decay_on = \"success\" needs a success rule: success = \"task\" \
-                 or \"terminated\", not \"none\""
+                 or \"terminated\", not \"none\"; for a task with no goal, hold δ_k: \
+                 decay_on = \"return\" with alpha = 1.0 (docs/findings/suite.md)"
                     .into(),
             );
         }

@@ -406,3 +406,50 @@ fn a_config_errors_kind_is_the_mistakes() {
     assert_eq!(kind("range.toml", Some(&range)), ConfigErrorKind::Value);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The new-task preset decays δ_k on success; a task with no goal (`success = "none"`) is
+/// refused with the remedy the delayed-Hopper runs support (docs/findings/suite.md): hold
+/// δ_k. With that remedy the preset loads and its schedule never shrinks δ_k.
+#[test]
+fn a_task_without_a_goal_is_told_to_hold_delta() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = std::env::temp_dir().join(format!("logo-no-goal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let template = std::fs::read_to_string(root.join("configs/templates/new_task.toml")).unwrap();
+    let demos = root.join("data/logo/hopper").canonicalize().unwrap();
+    let preset = template
+        .replace("env = \"SparseHopper-v4\"", "env = \"Hopper-v4+delayed\"")
+        .replace("success = \"task\"", "success = \"none\"")
+        .replace("\"../../data/logo/hopper\"", &format!("{demos:?}"));
+    assert!(preset.contains("success = \"none\"") && preset.contains("Hopper-v4+delayed"));
+    let write = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let e = TrainConfig::load(&write("refused.toml", &preset)).unwrap_err();
+    let message = e.to_string();
+    assert!(
+        message.contains("needs a success rule")
+            && message.contains("decay_on = \"return\" with alpha = 1.0"),
+        "{message}"
+    );
+    let held = preset
+        .replace("decay_on = \"success\"", "decay_on = \"return\"")
+        .replace("alpha = 0.9", "alpha = 1.0");
+    // The return rising every iteration, past the warm-up: the decaying schedule of a
+    // goal-less run on the return (LOGO's α) shrinks δ_k, the held one does not.
+    let delta_after = |text: &str, name: &str| {
+        let config = TrainConfig::load(&write(name, text)).unwrap();
+        let mut schedule = config.guidance.as_ref().unwrap().schedule();
+        for i in 0..20 {
+            schedule.update(i, 100.0 * i as f64);
+        }
+        (config.guidance.unwrap().delta0.unwrap(), schedule.delta)
+    };
+    let decaying = held.replace("alpha = 1.0", "alpha = 0.9");
+    let (delta0, decayed) = delta_after(&decaying, "decaying.toml");
+    assert!(decayed < 0.5 * delta0, "{decayed} from {delta0}");
+    assert_eq!(delta_after(&held, "held.toml"), (delta0, delta0));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

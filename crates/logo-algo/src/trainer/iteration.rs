@@ -306,7 +306,8 @@ fn decay_signal(config: &TrainConfig, batch: &Batch) -> Result<f64, TrainError> 
         Invalid::new(
             "guidance.decay_on = \"success\": no episode of the batch reported reaching its \
              goal or not (the task defines no success); set success = \"terminated\" for a \
-             task that ends at its goal, or report info[\"is_success\"]",
+             task that ends at its goal, or report info[\"is_success\"]; for a task with no \
+             goal, hold δ_k: decay_on = \"return\" with alpha = 1.0 (docs/findings/suite.md)",
         )
         .into()
     })
