@@ -308,6 +308,33 @@ def toml_value(value):
     return repr(value)
 
 
+# The guidance of a task with no goal: δ_k held at δ_0 (the preset's decay reads success).
+NO_GOAL_GUIDANCE = {"decay_on": "return", "alpha": 1.0}
+
+
+def replace_line(text: str, line: str, new: str) -> str:
+    """TEXT with its one line LINE replaced by NEW; an error where LINE is not there once
+    (a template edited under the suite must not change a task's config silently)."""
+    lines = text.split("\n")
+    if lines.count(line) != 1:
+        raise SystemExit(f"{PRESET}: expected the line {line!r} once, found it "
+                         f"{lines.count(line)} times")
+    return "\n".join(new if x == line else x for x in lines)
+
+
+def refuse_other_runs(arm: Path, config: dict):
+    """Stops where a kept run of ARM was made with other guidance settings than CONFIG's:
+    `logo sweep` would count it done (or resume it with its own config) under the new one."""
+    wanted = config.get("guidance", {})
+    for run_config in sorted(arm.glob("seed*/config.toml")):
+        kept = tomllib.loads(run_config.read_text()).get("guidance", {})
+        for key in ("delta0", "alpha", "warmup", "decay_on", "discriminator_steps"):
+            if key in wanted and kept.get(key) != wanted[key]:
+                raise SystemExit(
+                    f"{run_config}: guidance.{key} = {kept.get(key)!r}, the suite's config "
+                    f"now says {wanted[key]!r}; move {arm} aside to run the new config")
+
+
 def configs(out: Path, name: str) -> list[Path]:
     """The task's LOGO (new-task preset) and TRPO configs, written under out/configs."""
     task = TASKS[name]
@@ -323,17 +350,20 @@ def configs(out: Path, name: str) -> list[Path]:
     text = PRESET.read_text()
     kept = [line for line in text.splitlines()
             if not line.split("=")[0].strip() in ("env", "success", "iterations")]
-    body = "\n".join(kept).replace(
-        'demos = "../../data/logo/hopper"', f"demos = {toml_value(str(demos))}")
+    body = replace_line("\n".join(kept), 'demos = "../../data/logo/hopper"',
+                        f"demos = {toml_value(str(demos))}")
     if task["success"] == "none":
         # No goal to read (the preset's "success" needs a success rule), and decaying δ_k on
-        # the return let the guidance go at a quarter of the demonstrations' return on the
-        # delayed Hopper: δ_k is held (docs/findings/suite.md, "Why the decay held LOGO back").
-        body = body.replace('\ndecay_on = "success"', '\ndecay_on = "return"  # the task has no goal')
-        body = body.replace('\nalpha = 0.9', '\nalpha = 1.0  # no goal: δ_k held')
+        # the return let the guidance go early on the delayed Hopper: δ_k is held
+        # (docs/findings/suite.md#the-delayed-hopper-why-decaying-on-the-return-let-go).
+        for key, value in NO_GOAL_GUIDANCE.items():
+            lines = [x for x in body.splitlines() if x.startswith(f"{key} = ")]
+            body = replace_line(body, lines[0] if len(lines) == 1 else f"{key} = ...",
+                                f"{key} = {toml_value(value)}  # the task has no goal")
     folder = out / "configs"
     folder.mkdir(parents=True, exist_ok=True)
     logo = folder / "logo.toml"
+    refuse_other_runs(out / "runs" / "logo", tomllib.loads(header + top + body))
     logo.write_text(header + top + body + "\n")
     # TRPO: the same config without its [guidance] table (nor the guidance's comments).
     cut = body.index("[guidance]")
@@ -384,7 +414,7 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None):
                 continue
             arm_keys = {"demos": demos} if arm == "logo" else {"guidance": None}
             if arm == "logo" and task["success"] == "none":
-                arm_keys["guidance"] = {"decay_on": "return", "alpha": 1.0}  # as configs()
+                arm_keys["guidance"] = NO_GOAL_GUIDANCE
             logo_rl.train("new-task", env=task["env"], out=run_dir, seed=seed, iterations=n,
                           success=task["success"], progress=False, **arm_keys)
         bc = folder / "runs" / "bc" / f"seed{seed}"

@@ -193,6 +193,13 @@ impl RewardConfig {
     }
 }
 
+/// What both refusals of `decay_on = "success"` without a success add for a task that has
+/// no goal at all: on the suite's delayed Hopper, decaying on the return let the guidance
+/// go long before the policy reached the demonstrations (docs/findings/suite.md).
+pub(crate) const NO_GOAL_HINT: &str = "for a task with no goal, consider holding δ_k (the \
+     guidance step's KL radius) at δ_0: guidance.decay_on = \"return\" with guidance.alpha = 1.0 \
+     (docs/findings/suite.md#the-delayed-hopper-why-decaying-on-the-return-let-go)";
+
 /// `[guidance] decay_on`: what δ_k's schedule reads.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -578,12 +585,11 @@ impl TrainConfig {
             && g.decay_on == DecaySignal::Success
             && self.success == SuccessRule::None
         {
-            return Err(
+            return Err(format!(
                 "guidance.decay_on = \"success\" needs a success rule: success = \"task\" \
-                 or \"terminated\", not \"none\"; for a task with no goal, hold δ_k: \
-                 decay_on = \"return\" with alpha = 1.0 (docs/findings/suite.md)"
-                    .into(),
-            );
+                 or \"terminated\", not \"none\"; {NO_GOAL_HINT}"
+            )
+            .into());
         }
         let discriminator = self.guidance.as_ref().is_some_and(|g| g.demos.is_some());
         if self.reward.discriminator > 0.0 && !discriminator {

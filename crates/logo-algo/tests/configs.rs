@@ -408,20 +408,32 @@ fn a_config_errors_kind_is_the_mistakes() {
 }
 
 /// The new-task preset decays δ_k on success; a task with no goal (`success = "none"`) is
-/// refused with the remedy the delayed-Hopper runs support (docs/findings/suite.md): hold
-/// δ_k. With that remedy the preset loads and its schedule never shrinks δ_k.
+/// refused, and the refusal suggests holding δ_k (docs/findings/suite.md). With that
+/// suggestion the preset loads and its schedule never shrinks δ_k.
 #[test]
 fn a_task_without_a_goal_is_told_to_hold_delta() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let dir = std::env::temp_dir().join(format!("logo-no-goal-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let template = std::fs::read_to_string(root.join("configs/templates/new_task.toml")).unwrap();
+    // Each edit replaces exactly one whole line of the template.
+    let edit = |text: &str, line: &str, with: &str| {
+        let line = format!("\n{line}\n");
+        assert_eq!(text.matches(&line).count(), 1, "{line:?} in the template");
+        text.replace(&line, &format!("\n{with}\n"))
+    };
     let demos = root.join("data/logo/hopper").canonicalize().unwrap();
-    let preset = template
-        .replace("env = \"SparseHopper-v4\"", "env = \"Hopper-v4+delayed\"")
-        .replace("success = \"task\"", "success = \"none\"")
-        .replace("\"../../data/logo/hopper\"", &format!("{demos:?}"));
-    assert!(preset.contains("success = \"none\"") && preset.contains("Hopper-v4+delayed"));
+    let preset = edit(
+        &template,
+        "env = \"SparseHopper-v4\"",
+        "env = \"Hopper-v4+delayed\"",
+    );
+    let preset = edit(&preset, "success = \"task\"", "success = \"none\"");
+    let preset = edit(
+        &preset,
+        "demos = \"../../data/logo/hopper\"",
+        &format!("demos = {demos:?}"),
+    );
     let write = |name: &str, text: &str| {
         let path = dir.join(name);
         std::fs::write(&path, text).unwrap();
@@ -431,25 +443,24 @@ fn a_task_without_a_goal_is_told_to_hold_delta() {
     let message = e.to_string();
     assert!(
         message.contains("needs a success rule")
-            && message.contains("decay_on = \"return\" with alpha = 1.0"),
+            && message.contains("guidance.decay_on = \"return\" with guidance.alpha = 1.0"),
         "{message}"
     );
-    let held = preset
-        .replace("decay_on = \"success\"", "decay_on = \"return\"")
-        .replace("alpha = 0.9", "alpha = 1.0");
-    // The return rising every iteration, past the warm-up: the decaying schedule of a
-    // goal-less run on the return (LOGO's α) shrinks δ_k, the held one does not.
+    let returns = edit(&preset, "decay_on = \"success\"", "decay_on = \"return\"");
+    // The return rising every iteration, past the warm-up: with the preset's α the
+    // schedule shrinks δ_k, held (α = 1) it does not.
     let delta_after = |text: &str, name: &str| {
         let config = TrainConfig::load(&write(name, text)).unwrap();
+        assert_eq!(config.success, logo_algo::episode::SuccessRule::None);
         let mut schedule = config.guidance.as_ref().unwrap().schedule();
         for i in 0..20 {
             schedule.update(i, 100.0 * i as f64);
         }
         (config.guidance.unwrap().delta0.unwrap(), schedule.delta)
     };
-    let decaying = held.replace("alpha = 1.0", "alpha = 0.9");
-    let (delta0, decayed) = delta_after(&decaying, "decaying.toml");
+    let (delta0, decayed) = delta_after(&returns, "decaying.toml");
     assert!(decayed < 0.5 * delta0, "{decayed} from {delta0}");
+    let held = edit(&returns, "alpha = 0.9", "alpha = 1.0");
     assert_eq!(delta_after(&held, "held.toml"), (delta0, delta0));
     std::fs::remove_dir_all(&dir).unwrap();
 }

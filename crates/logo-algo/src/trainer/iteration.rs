@@ -31,7 +31,7 @@ use super::Trainer;
 use super::learner::{Advantages, CriticFits, advantages};
 use super::recorder::Stopwatch;
 use super::resources::{Collected, Resources};
-use crate::config::{DecaySignal, TrainConfig};
+use crate::config::{DecaySignal, NO_GOAL_HINT, TrainConfig};
 use crate::episode::Evaluation;
 use crate::error::{Invalid, TrainError};
 use crate::guidance::{Guidance, GuidanceReward};
@@ -303,12 +303,11 @@ fn decay_signal(config: &TrainConfig, batch: &Batch) -> Result<f64, TrainError> 
         return Ok(batch.mean_return());
     }
     batch.success_rate(config.success).ok_or_else(|| {
-        Invalid::new(
+        Invalid::new(format!(
             "guidance.decay_on = \"success\": no episode of the batch reported reaching its \
              goal or not (the task defines no success); set success = \"terminated\" for a \
-             task that ends at its goal, or report info[\"is_success\"]; for a task with no \
-             goal, hold δ_k: decay_on = \"return\" with alpha = 1.0 (docs/findings/suite.md)",
-        )
+             task that ends at its goal, or report info[\"is_success\"]; {NO_GOAL_HINT}"
+        ))
         .into()
     })
 }
