@@ -322,6 +322,15 @@ def replace_line(text: str, line: str, new: str) -> str:
     return "\n".join(new if x == line else x for x in lines)
 
 
+def set_key(text: str, key: str, value, note: str) -> str:
+    """TEXT with its one `KEY = ...` line set to VALUE (a trailing comment NOTE); an error
+    where the template has no such line or several."""
+    lines = [x for x in text.split("\n") if x.startswith(f"{key} = ")]
+    if len(lines) != 1:
+        raise SystemExit(f"{PRESET}: expected one line `{key} = ...`, found {len(lines)}")
+    return replace_line(text, lines[0], f"{key} = {toml_value(value)}  # {note}")
+
+
 def refuse_other_runs(arm: Path, config: dict):
     """Stops where a kept run of ARM was made with other guidance settings than CONFIG's:
     `logo sweep` would count it done (or resume it with its own config) under the new one."""
@@ -357,9 +366,7 @@ def configs(out: Path, name: str) -> list[Path]:
         # the return let the guidance go early on the delayed Hopper: δ_k is held
         # (docs/findings/suite.md#the-delayed-hopper-why-decaying-on-the-return-let-go).
         for key, value in NO_GOAL_GUIDANCE.items():
-            lines = [x for x in body.splitlines() if x.startswith(f"{key} = ")]
-            body = replace_line(body, lines[0] if len(lines) == 1 else f"{key} = ...",
-                                f"{key} = {toml_value(value)}  # the task has no goal")
+            body = set_key(body, key, value, "the task has no goal")
     folder = out / "configs"
     folder.mkdir(parents=True, exist_ok=True)
     logo = folder / "logo.toml"
