@@ -10,6 +10,8 @@ set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 out="${1:-runs/fig1}"
 logo="${LOGO:-./target/release/logo}"
+# A pinned copy of the binary finds MuJoCo here, not by its relative runpath.
+export LD_LIBRARY_PATH="$PWD/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 for item in gail:walker2d pofd:walker2d dapg:halfcheetah gail:halfcheetah pofd:halfcheetah; do
   method=${item%%:*}; task=${item##*:}
   for seed in 0 1 2 3 4; do
