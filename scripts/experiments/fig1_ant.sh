@@ -9,6 +9,8 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 out="${1:-runs/fig1-ant}"
 logo="${LOGO:-./target/release/logo}"
+# A pinned copy of the binary finds MuJoCo here, not by its relative runpath.
+export LD_LIBRARY_PATH="$PWD/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 kept=docs/results/new-task/ant
 for method in logo trpo; do
   for seed in 0 1 2; do
