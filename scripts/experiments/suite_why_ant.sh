@@ -3,8 +3,8 @@
 # suite's LOGO config (runs/suite/ant-distance/configs/logo.toml, written by `suite.py run`)
 # with one key changed per arm, 3 seeds x 2M each, LOGO only:
 #   logo-held:  alpha = 1.0, δ_k held at δ_0 (the preset's decay on success shrank it on
-#               goals reached by chance);
-#   logo-sigma: log_std_init = -1.0, σ starts at ≈ 0.37, the demonstrator's.
+#               rare, scattered successes of the sampled episodes);
+#   logo-sigma: log_std_init = -1.0, σ starts at ≈ 0.37, the behaviour policy's start.
 # A queue of (arm, seed) items that copies of this script share, as fig1_paper.sh's: start
 # one copy per free vCPU; finished runs are skipped, interrupted ones resume exactly.
 # Usage: LOGO=path/to/logo scripts/experiments/suite_why_ant.sh [OUT]   (OUT: runs/suite-why)
@@ -15,8 +15,10 @@ logo="${LOGO:-./target/release/logo}"
 export LD_LIBRARY_PATH="$PWD/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 suite=runs/suite/ant-distance/configs/logo.toml
 mkdir -p "$out/configs"
-if [ ! -f "$out/configs/logo-held.toml" ]; then
+if [ ! -f "$out/configs/logo-held.toml" ] || [ ! -f "$out/configs/logo-sigma.toml" ]; then
   [ -f "$suite" ] || { echo "$suite: missing (run: suite.py run runs/suite ant-distance)" >&2; exit 1; }
+fi
+if [ ! -f "$out/configs/logo-held.toml" ]; then
   grep -qx 'alpha = 0.9' "$suite" || { echo "$suite: no line 'alpha = 0.9'" >&2; exit 1; }
   sed -e 's/^alpha = 0\.9$/alpha = 1.0/' \
     -e "1s|^.*\$|# The suite-why check on ant-distance: the suite's LOGO config ($suite) with alpha = 1.0, δ_k held at δ_0.|" \
