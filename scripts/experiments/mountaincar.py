@@ -78,9 +78,9 @@ ARMS = {
         normalise_observations=True, eval_episodes=10, improvement={"kl_limit": 1.5},
         guidance={"discriminator_steps": 10, "delta0": 0.01},
     ),
-    # The preset (it adds decay_on = "success"), and TRPO with the old and the preset's
-    # settings (no [guidance]).
-    "preset": dict(success="terminated"),
+    # The preset as it was then (decaying δ_k on success; it holds δ_k since), and TRPO
+    # with the old and the preset's settings (no [guidance]).
+    "preset": dict(success="terminated", guidance={"alpha": 0.9, "decay_on": "success"}),
     "trpo": old(guidance=None),
     "trpo-preset": dict(success="terminated", guidance=None),
 }

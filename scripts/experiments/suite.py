@@ -10,12 +10,13 @@ initial states, how often the demonstrator, uniform random actions and the zero 
 reach the goal and what they earn: a task is sparse enough when random actions do not
 find its goal.
 
-    .venv/bin/python scripts/experiments/suite.py run OUT [TASK ...] [--seeds 0..5]
+    .venv/bin/python scripts/experiments/suite.py run OUT [TASK ...] [--seeds 0..5] [--arms ARMS]
 
 trains, on each task of logo-rl's envs, LOGO with the new-task preset and TRPO (the same
 config without its guidance) for the task's budget with `logo sweep` (finished runs are
 skipped, interrupted ones resume), and behaviour cloning (`logo bc`, which evaluates its
-policy), all from the demonstrations in data/suite/<task>/demos. `list` prints the tasks.
+policy), all from the demonstrations in data/suite/<task>/demos (--arms: only these). `list`
+prints the tasks.
 
     .venv/bin/python scripts/experiments/suite.py report OUT [TASK ...] [--keep DOCS]
 
@@ -308,10 +309,6 @@ def toml_value(value):
     return repr(value)
 
 
-# The guidance of a task with no goal: δ_k held at δ_0 (the preset's decay reads success).
-NO_GOAL_GUIDANCE = {"decay_on": "return", "alpha": 1.0}
-
-
 def replace_line(text: str, line: str, new: str) -> str:
     """TEXT with its one line LINE replaced by NEW; an error where LINE is not there once
     (a template edited under the suite must not change a task's config silently)."""
@@ -320,15 +317,6 @@ def replace_line(text: str, line: str, new: str) -> str:
         raise SystemExit(f"{PRESET}: expected the line {line!r} once, found it "
                          f"{lines.count(line)} times")
     return "\n".join(new if x == line else x for x in lines)
-
-
-def set_key(text: str, key: str, value, note: str) -> str:
-    """TEXT with its one `KEY = ...` line set to VALUE (a trailing comment NOTE); an error
-    where the template has no such line or several."""
-    lines = [x for x in text.split("\n") if x.startswith(f"{key} = ")]
-    if len(lines) != 1:
-        raise SystemExit(f"{PRESET}: expected one line `{key} = ...`, found {len(lines)}")
-    return replace_line(text, lines[0], f"{key} = {toml_value(value)}  # {note}")
 
 
 def refuse_other_runs(arm: Path, config: dict):
@@ -361,12 +349,6 @@ def configs(out: Path, name: str) -> list[Path]:
             if not line.split("=")[0].strip() in ("env", "success", "iterations")]
     body = replace_line("\n".join(kept), 'demos = "../../data/logo/hopper"',
                         f"demos = {toml_value(str(demos))}")
-    if task["success"] == "none":
-        # No goal to read (the preset's "success" needs a success rule), and decaying δ_k on
-        # the return let the guidance go early on the delayed Hopper: δ_k is held
-        # (docs/findings/suite.md#the-delayed-hopper-why-decaying-on-the-return-let-go).
-        for key, value in NO_GOAL_GUIDANCE.items():
-            body = set_key(body, key, value, "the task has no goal")
     folder = out / "configs"
     folder.mkdir(parents=True, exist_ok=True)
     logo = folder / "logo.toml"
@@ -379,20 +361,26 @@ def configs(out: Path, name: str) -> list[Path]:
     return [logo, trpo]
 
 
-def run(out: Path, names, seeds: str, iterations: int | None = None):
+# The methods each task is run with: their folders under OUT/<task>/runs and their names.
+ARMS = ("logo", "trpo", "bc")
+ARM_NAMES = {"logo": "LOGO (new-task preset)", "trpo": "TRPO", "bc": "BC"}
+
+
+def run(out: Path, names, seeds: str, iterations: int | None = None, arms=ARMS):
     for name in names:
         task = TASKS[name]
         folder = out / name
         if task.get("python"):
-            run_python(folder, name, seeds, iterations)
+            run_python(folder, name, seeds, iterations, arms)
             continue
-        logo, trpo = configs(folder, name)
-        sweep = [LOGO, "sweep", str(logo), str(trpo), "--seeds", seeds, "--jobs", "1",
-                 "--threads", "1", "--out", str(folder / "runs")]
-        if iterations is not None:  # a shorter run than the budget (a smoke test)
-            sweep += ["--iterations", str(iterations)]
-        subprocess.run(sweep, check=True, env=LOGO_ENVIRONMENT)
-        for seed in seed_range(seeds):
+        swept = [c for c in configs(folder, name) if c.stem in arms]
+        if swept:
+            sweep = [LOGO, "sweep", *map(str, swept), "--seeds", seeds, "--jobs", "1",
+                     "--threads", "1", "--out", str(folder / "runs")]
+            if iterations is not None:  # a shorter run than the budget (a smoke test)
+                sweep += ["--iterations", str(iterations)]
+            subprocess.run(sweep, check=True, env=LOGO_ENVIRONMENT)
+        for seed in seed_range(seeds) if "bc" in arms else ():
             bc = folder / "runs" / "bc" / f"seed{seed}"
             if (bc / "policy.safetensors").is_file():
                 continue
@@ -403,15 +391,25 @@ def run(out: Path, names, seeds: str, iterations: int | None = None):
                                check=True, env=LOGO_ENVIRONMENT, stdout=log)
 
 
-def run_python(folder: Path, name: str, seeds: str, iterations: int | None):
+def _logo_rl_preset() -> str:
+    """The new-task preset as the installed logo_rl carries it (built into the package)."""
+    from logo_rl.presets import preset_path
+
+    return preset_path("new-task").read_text()
+
+
+def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms=ARMS):
     """A Gymnasium env's task through logo_rl.train and logo_rl.bc (the Rust sampler steps
     the Python env), with the same arms and the new-task preset."""
     task = TASKS[name]
+    if "logo" in arms and _logo_rl_preset() != PRESET.read_text():
+        raise SystemExit(f"logo_rl's new-task preset is not {PRESET} as it is now (the package "
+                         "was built before the file changed): build it again, scripts/setup.sh")
     demos = ROOT / "data" / "suite" / name / "demos"
     samples = tomllib.loads(PRESET.read_text())["samples_per_iter"]
     n = iterations or task["budget"] // samples
     for seed in seed_range(seeds):
-        for arm in ("logo", "trpo"):
+        for arm in [a for a in ("logo", "trpo") if a in arms]:
             run_dir = folder / "runs" / arm / f"seed{seed}"
             if (run_dir / "eval.json").is_file():
                 continue
@@ -420,21 +418,15 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None):
                 logo_rl.train(resume=run_dir, env=task["env"], progress=False)
                 continue
             arm_keys = {"demos": demos} if arm == "logo" else {"guidance": None}
-            if arm == "logo" and task["success"] == "none":
-                arm_keys["guidance"] = NO_GOAL_GUIDANCE
             logo_rl.train("new-task", env=task["env"], out=run_dir, seed=seed, iterations=n,
                           success=task["success"], progress=False, **arm_keys)
         bc = folder / "runs" / "bc" / f"seed{seed}"
-        if not (bc / "policy.safetensors").is_file():
+        if "bc" in arms and not (bc / "policy.safetensors").is_file():
             cloned = logo_rl.bc(demos, env=task["env"], seed=seed, success=task["success"],
                                 out=bc / "policy.safetensors")
             kept = {"pairs": cloned.pairs, "loss_before": cloned.loss_before,
                     "loss_after": cloned.loss_after, "evaluation": cloned.evaluation}
             (bc / "bc.json").write_text(json.dumps(kept, indent=1) + "\n")
-
-
-ARMS = ("logo", "trpo", "bc")
-ARM_NAMES = {"logo": "LOGO (new-task preset)", "trpo": "TRPO", "bc": "BC"}
 
 
 def final_policy(folder: Path) -> dict | None:
@@ -609,6 +601,9 @@ def main(argv=None):
     r.add_argument("--seeds", default="0..5")
     r.add_argument("--iterations", type=int, default=None,
                    help="fewer iterations than the budget's (a smoke test)")
+    r.add_argument("--arms", default=",".join(ARMS),
+                   help="the methods to run, of " + ", ".join(ARMS) + " (a changed preset "
+                   "needs only logo run again)")
     p = sub.add_parser("report", help="each task's table of final policies")
     p.add_argument("out", type=Path)
     p.add_argument("tasks", nargs="*", default=list(TASKS))
@@ -625,7 +620,11 @@ def main(argv=None):
     if unknown:
         parser.error(f"unknown task(s) {', '.join(unknown)}; the tasks: {', '.join(TASKS)}")
     if args.command == "run":
-        run(args.out, args.tasks, args.seeds, args.iterations)
+        arms = tuple(a.strip() for a in args.arms.split(","))
+        if not arms or any(a not in ARMS for a in arms):
+            parser.error(f"--arms {args.arms!r}: expected some of {', '.join(ARMS)}, "
+                         "separated by commas")
+        run(args.out, args.tasks, args.seeds, args.iterations, arms)
     elif args.command == "report":
         report(args.out, args.tasks, args.keep)
     else:

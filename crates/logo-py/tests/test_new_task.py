@@ -59,17 +59,18 @@ def test_no_accepted_step_of_the_preset_exceeds_its_kl_limit(tmp_path, demos):
 def test_success_is_the_tasks_and_none_where_it_defines_none(tmp_path, demos):
     common = dict(env=TASK, demos=demos, iterations=1, samples_per_iter=1000, seed=0,
                   progress=False, tensorboard=False, eval_episodes=1)
-    # MountainCar reports no is_success: with the task's rule there is none to report, and
-    # δ_k's decay cannot read it.
-    with pytest.raises(logo_rl.LogoError, match="the task defines no success") as refused:
-        logo_rl.train(PRESET, out=tmp_path / "none", **common)
-    # ...and the error names the remedy for a task with no goal at all: δ_k held.
-    assert 'guidance.decay_on = "return" with guidance.alpha = 1.0' in str(refused.value)
-    # Decaying on the return (LOGO's own rule) runs; only the success summary is read here.
-    run = logo_rl.train(PRESET, out=tmp_path / "plain", guidance={"decay_on": "return"}, **common)
+    # MountainCar reports no is_success: with the task's rule there is none to report (the
+    # preset holds δ_k, so no decay reads it).
+    run = logo_rl.train(PRESET, out=tmp_path / "plain", **common)
     summary = run.eval["policies"]["final"]["mean_action"]["summary"]
     assert summary["reached"] is None and summary["success_rate"] is None
     assert np.isnan(float(rows(run)[0]["eval_success"]))
+    # Decaying δ_k on success there has nothing to read: refused, naming the remedy for a
+    # task with no goal at all, δ_k held.
+    with pytest.raises(logo_rl.LogoError, match="the task defines no success") as refused:
+        logo_rl.train(PRESET, out=tmp_path / "decaying", **common,
+                      guidance={"alpha": 0.9, "decay_on": "success"})
+    assert 'guidance.decay_on = "return" with guidance.alpha = 1.0' in str(refused.value)
     # A task that stops at its goal: an episode that ends by termination reached it.
     run = logo_rl.train(PRESET, out=tmp_path / "terminated", success="terminated", **common)
     summary = run.eval["policies"]["final"]["mean_action"]["summary"]

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# The suite's LOGO arm again, after a change of the new-task preset (configs/templates/
+# new_task.toml): TRPO and BC do not read the preset's guidance, so only LOGO is run, on
+# the suite's four tasks with a goal, 5 seeds each (the delayed Hopper already held δ_k).
+#   - runs/suite/<task>/runs/trpo and bc: the kept runs of docs/results/suite/<task>, where
+#     absent (their eval.json is all `suite.py report` reads);
+#   - runs/suite/<task>/runs/logo-decayed: the kept LOGO runs made with the earlier preset;
+#   - ant-distance seeds 0-2: the held arm of suite_why_ant.sh (the suite's LOGO config with
+#     alpha = 1.0, the same numbers as the new preset's), copied where absent.
+# A queue of (task, seed) items that copies of this script share, as fig1_paper.sh's: start
+# one copy per free vCPU; finished runs are skipped, interrupted ones resume exactly.
+# Usage: LOGO=path/to/logo scripts/experiments/suite_preset.sh
+set -uo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+export LOGO="${LOGO:-$PWD/target/release/logo}"
+python=.venv/bin/python
+for task in ant-distance reacher-goal mountain-car maze; do
+  runs=runs/suite/$task/runs
+  mkdir -p "$runs"
+  for arm in trpo bc; do
+    [ -d "$runs/$arm" ] || cp -r "docs/results/suite/$task/$arm" "$runs/$arm"
+  done
+  [ -d "$runs/logo-decayed" ] || {
+    if [ -d "$runs/logo" ]; then mv "$runs/logo" "$runs/logo-decayed"
+    else cp -r "docs/results/suite/$task/logo" "$runs/logo-decayed"; fi
+  }
+done
+held=runs/suite-why/ant-distance/runs/logo-held
+for seed in 0 1 2; do
+  run=runs/suite/ant-distance/runs/logo/seed$seed
+  [ -d "$run" ] || { [ -f "$held/seed$seed/eval.json" ] && mkdir -p "${run%/*}" && cp -r "$held/seed$seed" "$run" && rm -f "$run/run.lock"; }
+done
+for item in ant-distance:3 ant-distance:4 maze:0 maze:1 maze:2 maze:3 maze:4 \
+  reacher-goal:0 reacher-goal:1 reacher-goal:2 reacher-goal:3 reacher-goal:4 \
+  mountain-car:0 mountain-car:1 mountain-car:2 mountain-car:3 mountain-car:4; do
+  task=${item%%:*}; seed=${item##*:}
+  [ -f "runs/suite/$task/runs/logo/seed$seed/eval.json" ] && continue
+  echo "[suite_preset] $(date -u +%FT%TZ) $task seed$seed"
+  "$python" scripts/experiments/suite.py run runs/suite "$task" --seeds "$seed..$((seed + 1))" \
+    --arms logo || echo "[suite_preset] $task seed$seed: not finished here (held by another copy, or failed)"
+done
