@@ -319,21 +319,42 @@ def replace_line(text: str, line: str, new: str) -> str:
     return "\n".join(new if x == line else x for x in lines)
 
 
+# The guidance keys a kept run must share with the preset, and the defaults of those a
+# config may leave out (docs/config.md).
+GUIDANCE_KEYS = ("delta0", "alpha", "warmup", "decay_on", "discriminator_steps")
+GUIDANCE_DEFAULTS = {"decay_on": "return", "discriminator_steps": 1}
+
+
 def refuse_other_runs(arm: Path, config: dict):
     """Stops where a kept run of ARM was made with other guidance settings than CONFIG's:
-    `logo sweep` would count it done (or resume it with its own config) under the new one."""
-    wanted = config.get("guidance", {})
+    `logo sweep` would count it done (or resume it with its own config) under the new one.
+    What δ_k's decay reads does not matter where neither decays (α = 1)."""
+    wanted = {**GUIDANCE_DEFAULTS, **config.get("guidance", {})}
     for run_config in sorted(arm.glob("seed*/config.toml")):
-        kept = tomllib.loads(run_config.read_text()).get("guidance", {})
-        for key in ("delta0", "alpha", "warmup", "decay_on", "discriminator_steps"):
-            if key in wanted and kept.get(key) != wanted[key]:
+        kept = {**GUIDANCE_DEFAULTS, **tomllib.loads(run_config.read_text()).get("guidance", {})}
+        held = kept.get("alpha") == wanted.get("alpha") == 1.0
+        for key in GUIDANCE_KEYS:
+            if key == "decay_on" and held:
+                continue
+            if kept.get(key) != wanted.get(key):
                 raise SystemExit(
                     f"{run_config}: guidance.{key} = {kept.get(key)!r}, the suite's config "
-                    f"now says {wanted[key]!r}; move {arm} aside to run the new config")
+                    f"now says {wanted.get(key)!r}; move {arm} aside to run the new config")
 
 
-def configs(out: Path, name: str) -> list[Path]:
-    """The task's LOGO (new-task preset) and TRPO configs, written under out/configs."""
+def write_if_changed(path: Path, text: str):
+    """PATH holds TEXT, written whole (another copy of the suite may be starting a run from
+    it) and only where it differs."""
+    if path.is_file() and path.read_text() == text:
+        return
+    partial = path.with_name(f".{path.name}.{os.getpid()}.partial")
+    partial.write_text(text)
+    os.replace(partial, path)
+
+
+def configs(out: Path, name: str, logo_runs: bool = True) -> list[Path]:
+    """The task's LOGO (new-task preset) and TRPO configs, written under out/configs; with
+    LOGO_RUNS, its kept LOGO runs must have been made with the preset's guidance."""
     task = TASKS[name]
     preset = tomllib.loads(PRESET.read_text())
     iterations = task["budget"] // preset["samples_per_iter"]
@@ -352,12 +373,13 @@ def configs(out: Path, name: str) -> list[Path]:
     folder = out / "configs"
     folder.mkdir(parents=True, exist_ok=True)
     logo = folder / "logo.toml"
-    refuse_other_runs(out / "runs" / "logo", tomllib.loads(header + top + body))
-    logo.write_text(header + top + body + "\n")
+    if logo_runs:
+        refuse_other_runs(out / "runs" / "logo", tomllib.loads(header + top + body))
+    write_if_changed(logo, header + top + body + "\n")
     # TRPO: the same config without its [guidance] table (nor the guidance's comments).
     cut = body.index("[guidance]")
     trpo = folder / "trpo.toml"
-    trpo.write_text(header + top + body[:cut].rstrip() + "\n")
+    write_if_changed(trpo, header + top + body[:cut].rstrip() + "\n")
     return [logo, trpo]
 
 
@@ -373,14 +395,17 @@ def run(out: Path, names, seeds: str, iterations: int | None = None, arms=ARMS):
         if task.get("python"):
             run_python(folder, name, seeds, iterations, arms)
             continue
-        swept = [c for c in configs(folder, name) if c.stem in arms]
-        if swept:
-            sweep = [LOGO, "sweep", *map(str, swept), "--seeds", seeds, "--jobs", "1",
-                     "--threads", "1", "--out", str(folder / "runs")]
+        logo, trpo = configs(folder, name, logo_runs="logo" in arms)
+        for config in (logo, trpo):
+            todo = unfinished(folder / "runs" / config.stem, seeds) if config.stem in arms else []
+            if not todo:
+                continue
+            sweep = [LOGO, "sweep", str(config), "--seeds", ",".join(map(str, todo)),
+                     "--jobs", "1", "--threads", "1", "--out", str(folder / "runs")]
             if iterations is not None:  # a shorter run than the budget (a smoke test)
                 sweep += ["--iterations", str(iterations)]
             subprocess.run(sweep, check=True, env=LOGO_ENVIRONMENT)
-        for seed in seed_range(seeds) if "bc" in arms else ():
+        for seed in unfinished(folder / "runs" / "bc", seeds) if "bc" in arms else ():
             bc = folder / "runs" / "bc" / f"seed{seed}"
             if (bc / "policy.safetensors").is_file():
                 continue
@@ -391,23 +416,31 @@ def run(out: Path, names, seeds: str, iterations: int | None = None, arms=ARMS):
                                check=True, env=LOGO_ENVIRONMENT, stdout=log)
 
 
-def _logo_rl_preset() -> str:
+def unfinished(arm: Path, seeds: str) -> list[int]:
+    """The seeds of ARM (a method's runs) with no final evaluation yet. A run kept from
+    docs/results has no checkpoint, by which `logo sweep` would count it done."""
+    return [s for s in seed_range(seeds) if final_policy(arm / f"seed{s}") is None]
+
+
+def _logo_rl_preset() -> dict:
     """The new-task preset as the installed logo_rl carries it (built into the package)."""
     from logo_rl.presets import preset_path
 
-    return preset_path("new-task").read_text()
+    return tomllib.loads(preset_path("new-task").read_text())
 
 
 def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms=ARMS):
     """A Gymnasium env's task through logo_rl.train and logo_rl.bc (the Rust sampler steps
     the Python env), with the same arms and the new-task preset."""
     task = TASKS[name]
-    if "logo" in arms and _logo_rl_preset() != PRESET.read_text():
+    preset = tomllib.loads(PRESET.read_text())
+    if {"logo", "trpo"} & set(arms) and _logo_rl_preset() != preset:
         raise SystemExit(f"logo_rl's new-task preset is not {PRESET} as it is now (the package "
                          "was built before the file changed): build it again, scripts/setup.sh")
+    if "logo" in arms:
+        refuse_other_runs(folder / "runs" / "logo", preset)
     demos = ROOT / "data" / "suite" / name / "demos"
-    samples = tomllib.loads(PRESET.read_text())["samples_per_iter"]
-    n = iterations or task["budget"] // samples
+    n = iterations or task["budget"] // preset["samples_per_iter"]
     for seed in seed_range(seeds):
         for arm in [a for a in ("logo", "trpo") if a in arms]:
             run_dir = folder / "runs" / arm / f"seed{seed}"
@@ -421,7 +454,7 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
             logo_rl.train("new-task", env=task["env"], out=run_dir, seed=seed, iterations=n,
                           success=task["success"], progress=False, **arm_keys)
         bc = folder / "runs" / "bc" / f"seed{seed}"
-        if "bc" in arms and not (bc / "policy.safetensors").is_file():
+        if "bc" in arms and final_policy(bc) is None and not (bc / "policy.safetensors").is_file():
             cloned = logo_rl.bc(demos, env=task["env"], seed=seed, success=task["success"],
                                 out=bc / "policy.safetensors")
             kept = {"pairs": cloned.pairs, "loss_before": cloned.loss_before,
