@@ -403,7 +403,8 @@ def suite_finals(group):
     return finals
 
 
-SUITE_ARMS = {"logo": "LOGO (new-task preset)", "trpo": "TRPO", "bc": "BC"}
+SUITE_ARMS = {"logo": "LOGO (new-task preset)", "logo-decayed": "LOGO, δ_k decaying",
+              "trpo": "TRPO", "bc": "BC"}
 
 
 def check_suite(opts, header, body, compare, wrong):

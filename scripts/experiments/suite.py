@@ -385,7 +385,11 @@ def configs(out: Path, name: str, logo_runs: bool = True) -> list[Path]:
 
 # The methods each task is run with: their folders under OUT/<task>/runs and their names.
 ARMS = ("logo", "trpo", "bc")
-ARM_NAMES = {"logo": "LOGO (new-task preset)", "trpo": "TRPO", "bc": "BC"}
+# What a task's table shows: those, and LOGO's runs made with an earlier preset that let
+# δ_k decay (kept as logo-decayed where a task has them).
+REPORTED = ("logo", "logo-decayed", "trpo", "bc")
+ARM_NAMES = {"logo": "LOGO (new-task preset)", "logo-decayed": "LOGO, δ_k decaying",
+             "trpo": "TRPO", "bc": "BC"}
 
 
 def run(out: Path, names, seeds: str, iterations: int | None = None, arms=ARMS):
@@ -512,7 +516,8 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
     copies to (relative to docs/results/; docs/results/suite without --keep)."""
     runs = out / name / "runs"
     seeds: dict[str, list[tuple[int, dict]]] = {}
-    for arm in ARMS:
+    arms = [a for a in REPORTED if a != "logo-decayed" or (runs / a).is_dir()]
+    for arm in arms:
         found = []
         for folder in sorted(runs.glob(f"{arm}/seed*"), key=lambda p: int(p.name[4:])):
             if arm == "bc":
@@ -525,7 +530,7 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
         seeds[arm] = found
     demo = DEMONSTRATED[name]
     goal = demo["reached"] is not None
-    returns = {a: [p["mean_action"]["summary"]["return"] for _, p in seeds[a]] for a in ARMS}
+    returns = {a: [p["mean_action"]["summary"]["return"] for _, p in seeds[a]] for a in arms}
     if goal:
         k, n = demo["reached"]
         target = f"seeds at ≥ the demonstrations' {k}/{n}"
@@ -535,7 +540,7 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
               "reached the goal, final policy per seed" if goal else "reached the goal",
               target, "P(LOGO > method) [95% CI]", "IQM difference LOGO − method [95% CI]"]
     rows = []
-    for arm in ARMS:
+    for arm in arms:
         x = returns[arm]
         if not x:
             rows.append([ARM_NAMES[arm], "0"] + ["—"] * (len(header) - 2))
@@ -562,7 +567,7 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
     docs = ROOT / "docs" / "results"
     kept = keep.resolve() if keep is not None else docs / "suite"
     base = kept.relative_to(docs) if kept.is_relative_to(docs) else kept
-    groups = ";".join(f"{base}/{name}/{arm}" for arm in ARMS)
+    groups = ";".join(f"{base}/{name}/{arm}" for arm in arms)
     demos_option = (f"demos={demo['reached'][0]}/{demo['reached'][1]}" if goal
                     else f"demos_return={demo['return']}")
     lines = [f"<!-- check suite rows={groups} {demos_option} -->",
@@ -592,18 +597,19 @@ def keep_seed(source: Path, dest: Path):
 
 
 def learning_figure(keep: Path, name: str):
-    """LOGO's and TRPO's training curves, IQM over seeds with 95% bands: the share of
+    """LOGO's (both presets' where kept) and TRPO's training curves, IQM over seeds with
+    95% bands: the share of
     sampled episodes at the goal (the return where the task has none), as
     KEEP/<task>.png and its data as .csv."""
     task = TASKS[name]
     metric, what = (("train_sparse_return", "sampled episodes' return")
                     if task["success"] == "none" else
                     ("train_success", "share of sampled episodes at the goal"))
-    groups = [keep / name / arm for arm in ("logo", "trpo") if (keep / name / arm).is_dir()]
-    if not groups:
+    arms = [arm for arm in ("logo", "logo-decayed", "trpo") if (keep / name / arm).is_dir()]
+    if not arms:
         return
-    labels = [f"--label={arm}={ARM_NAMES[arm]}" for arm in ("logo", "trpo")
-              if (keep / name / arm).is_dir()]
+    groups = [keep / name / arm for arm in arms]
+    labels = [f"--label={arm}={ARM_NAMES[arm]}" for arm in arms]
     subprocess.run([LOGO, "plot", *map(str, groups), "--metric", metric, "--stat", "iqm",
                     "--band", "ci", "--smooth", "5", *labels,
                     "--title", f"{name}: {what} (IQM, 95% band)",
