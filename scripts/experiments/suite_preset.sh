@@ -7,13 +7,14 @@
 #   - runs/suite/<task>/runs/logo-decayed: the LOGO runs made with the earlier preset;
 #   - ant-distance seeds 0-2: the held arm of suite_why_ant.sh (the suite's LOGO config with
 #     alpha = 1.0: the same numbers as the new preset's), copied where finished.
-# A queue of (task, seed) items that copies of this script share, as fig1_paper.sh's: start
-# one copy per free vCPU; finished runs are skipped, interrupted ones resume exactly.
+# A queue of (task, seed) items that copies of this script share (queue.sh): start one copy
+# per free vCPU.
 # Usage: LOGO=path/to/logo scripts/experiments/suite_preset.sh
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 export LOGO="${LOGO:-$PWD/target/release/logo}"
 python=.venv/bin/python
+source scripts/experiments/queue.sh
 mkdir -p runs/suite
 # Put in place, by one copy at a time; each folder arrives whole (copied beside, then moved).
 place() { [ -e "$2" ] || { rm -rf "$2.partial" && cp -r "$1" "$2.partial" && mv "$2.partial" "$2"; }; }
@@ -41,8 +42,7 @@ for item in ant-distance:3 ant-distance:4 maze:0 maze:1 maze:2 maze:3 maze:4 \
   mountain-car:0 mountain-car:1 mountain-car:2 mountain-car:3 mountain-car:4 \
   ant-distance:0 ant-distance:1 ant-distance:2; do
   task=${item%%:*}; seed=${item##*:}
-  [ -f "runs/suite/$task/runs/logo/seed$seed/eval.json" ] && continue
-  echo "[suite_preset] $(date -u +%FT%TZ) $task seed$seed"
-  "$python" scripts/experiments/suite.py run runs/suite "$task" --seeds "$seed..$((seed + 1))" \
-    --arms logo || echo "[suite_preset] $task seed$seed: not finished here (held by another copy, or failed)"
+  queue_item suite_preset "runs/suite/$task/runs/logo/seed$seed/eval.json" "$task seed$seed" \
+    "$python" scripts/experiments/suite.py run runs/suite "$task" --seeds "$seed..$((seed + 1))" \
+    --arms logo
 done

@@ -5,14 +5,14 @@
 #   logo-held:  alpha = 1.0, δ_k held at δ_0 (the preset's decay on success shrank it on
 #               rare, scattered successes of the sampled episodes);
 #   logo-sigma: log_std_init = -1.0, σ starts at ≈ 0.37, the behaviour policy's start.
-# A queue of (arm, seed) items that copies of this script share, as fig1_paper.sh's: start
-# one copy per free vCPU; finished runs are skipped, interrupted ones resume exactly.
+# A queue of (arm, seed) items that copies of this script share (queue.sh): start one copy
+# per free vCPU.
 # Usage: LOGO=path/to/logo scripts/experiments/suite_why_ant.sh [OUT]   (OUT: runs/suite-why)
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 out="${1:-runs/suite-why}/ant-distance"
 logo="${LOGO:-./target/release/logo}"
-export LD_LIBRARY_PATH="$PWD/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+source scripts/experiments/queue.sh
 suite=runs/suite/ant-distance/configs/logo.toml
 mkdir -p "$out/configs"
 if [ ! -f "$out/configs/logo-held.toml" ] || [ ! -f "$out/configs/logo-sigma.toml" ]; then
@@ -32,9 +32,8 @@ if [ ! -f "$out/configs/logo-sigma.toml" ]; then
 fi
 for arm in logo-held logo-sigma; do
   for seed in 0 1 2; do
-    [ -f "$out/runs/$arm/seed$seed/eval.json" ] && continue
-    echo "[suite_why_ant] $(date -u +%FT%TZ) $arm seed$seed"
-    "$logo" sweep "$out/configs/$arm.toml" --seeds "$seed..$((seed + 1))" --jobs 1 --threads 1 \
-      --out "$out/runs" || echo "[suite_why_ant] $arm seed$seed: not finished here (held by another copy, or failed)"
+    queue_item suite_why_ant "$out/runs/$arm/seed$seed/eval.json" "$arm seed$seed" \
+      "$logo" sweep "$out/configs/$arm.toml" --seeds "$seed..$((seed + 1))" --jobs 1 --threads 1 \
+      --out "$out/runs"
   done
 done
