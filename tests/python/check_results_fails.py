@@ -117,10 +117,10 @@ VERSUS = """<!-- check versus rows=variants-idp/logo-inverted_double_pendulum>re
 """
 
 # A suite task's final policies (suite.py report): goals per seed, the target, P and IQMs.
-SUITE = """<!-- check suite rows=suite/reacher-goal/logo;suite/reacher-goal/trpo;suite/reacher-goal/bc demos=20/20 -->
+SUITE = """<!-- check suite rows=suite/reacher-goal/logo-decayed;suite/reacher-goal/trpo;suite/reacher-goal/bc demos=20/20 -->
 | method | seeds | final return: IQM [95% CI] | reached the goal, final policy per seed | seeds at ≥ the demonstrations' 20/20 | P(LOGO > method) [95% CI] | IQM difference LOGO − method [95% CI] |
 | --- | --- | --- | --- | --- | --- | --- |
-| LOGO (new-task preset) | 5 | 41.8 [41.0, 42.0] | 20, 20, 20, 20, 20 of 20 | 5 of 5 | — | — |
+| LOGO, δ_k decaying | 5 | 41.8 [41.0, 42.0] | 20, 20, 20, 20, 20 of 20 | 5 of 5 | — | — |
 | TRPO | 5 | 41.5 [39.2, 41.9] | 20, 20, 20, 20, 20 of 20 | 5 of 5 | 0.60 [0.20, 1.00] | 0.2 [−0.5, 2.5] |
 | BC | 5 | 1.9 [0.9, 2.4] | 6, 4, 4, 8, 9 of 20 | 0 of 5 | 1.00 [1.00, 1.00] | 39.9 [39.0, 40.8] |
 """
