@@ -352,9 +352,8 @@ def write_if_changed(path: Path, text: str):
     os.replace(partial, path)
 
 
-def configs(out: Path, name: str, logo_runs: bool = True) -> list[Path]:
-    """The task's LOGO (new-task preset) and TRPO configs, written under out/configs; with
-    LOGO_RUNS, its kept LOGO runs must have been made with the preset's guidance."""
+def configs(out: Path, name: str) -> list[Path]:
+    """The task's LOGO (new-task preset) and TRPO configs, written under out/configs."""
     task = TASKS[name]
     preset = tomllib.loads(PRESET.read_text())
     iterations = task["budget"] // preset["samples_per_iter"]
@@ -373,8 +372,6 @@ def configs(out: Path, name: str, logo_runs: bool = True) -> list[Path]:
     folder = out / "configs"
     folder.mkdir(parents=True, exist_ok=True)
     logo = folder / "logo.toml"
-    if logo_runs:
-        refuse_other_runs(out / "runs" / "logo", tomllib.loads(header + top + body))
     write_if_changed(logo, header + top + body + "\n")
     # TRPO: the same config without its [guidance] table (nor the guidance's comments).
     cut = body.index("[guidance]")
@@ -399,7 +396,9 @@ def run(out: Path, names, seeds: str, iterations: int | None = None, arms=ARMS):
         if task.get("python"):
             run_python(folder, name, seeds, iterations, arms)
             continue
-        logo, trpo = configs(folder, name, logo_runs="logo" in arms)
+        logo, trpo = configs(folder, name)
+        if "logo" in arms:
+            refuse_other_runs(folder / "runs" / "logo", tomllib.loads(logo.read_text()))
         for config in (logo, trpo):
             todo = unfinished(folder / "runs" / config.stem, seeds) if config.stem in arms else []
             if not todo:
@@ -598,9 +597,8 @@ def keep_seed(source: Path, dest: Path):
 
 def learning_figure(keep: Path, name: str):
     """LOGO's (both presets' where kept) and TRPO's training curves, IQM over seeds with
-    95% bands: the share of
-    sampled episodes at the goal (the return where the task has none), as
-    KEEP/<task>.png and its data as .csv."""
+    95% bands: the share of sampled episodes at the goal (the return where the task has
+    none), as KEEP/<task>.png and its data as .csv."""
     task = TASKS[name]
     metric, what = (("train_sparse_return", "sampled episodes' return")
                     if task["success"] == "none" else
