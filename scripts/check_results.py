@@ -404,6 +404,7 @@ def suite_finals(group):
 
 
 SUITE_ARMS = {"logo": "LOGO (new-task preset)", "logo-decayed": "LOGO, δ_k decaying",
+              "logo-waiting": "LOGO, δ_k waiting for 0.9 at the goal",
               "trpo": "TRPO", "bc": "BC"}
 
 

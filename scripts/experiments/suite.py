@@ -321,8 +321,13 @@ def replace_line(text: str, line: str, new: str) -> str:
 
 # The guidance keys a kept run must share with the preset, and the defaults of those a
 # config may leave out (docs/config.md).
-GUIDANCE_KEYS = ("delta0", "alpha", "warmup", "decay_on", "discriminator_steps")
+GUIDANCE_KEYS = ("delta0", "alpha", "warmup", "decay_on", "decay_from", "discriminator_steps")
 GUIDANCE_DEFAULTS = {"decay_on": "return", "discriminator_steps": 1}
+
+# Candidates for the preset: arms that are its LOGO config with these guidance keys
+# changed, run beside it to decide what the preset should be. `logo-waiting`: δ_k shrinks
+# only at iterations where at least 0.9 of the batch's episodes reached the goal.
+CANDIDATES = {"logo-waiting": {"alpha": 0.9, "decay_on": "success", "decay_from": 0.9}}
 
 
 def refuse_other_runs(arm: Path, config: dict):
@@ -377,15 +382,36 @@ def configs(out: Path, name: str) -> list[Path]:
     cut = body.index("[guidance]")
     trpo = folder / "trpo.toml"
     write_if_changed(trpo, header + top + body[:cut].rstrip() + "\n")
-    return [logo, trpo]
+    for arm, keys in CANDIDATES.items():
+        write_if_changed(folder / f"{arm}.toml", header + top + candidate(body, arm, keys) + "\n")
+    return [logo, trpo] + [folder / f"{arm}.toml" for arm in CANDIDATES]
+
+
+def candidate(body: str, arm: str, keys: dict) -> str:
+    """The preset's config BODY with the candidate's guidance KEYS in place: each one
+    replacing the preset's line of that key, or added at the end of [guidance]."""
+    lines = body.split("\n")
+    start = lines.index("[guidance]")
+    end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("[")), len(lines))
+    added = []
+    for key, value in keys.items():
+        line = f"{key} = {toml_value(value)}"
+        at = [i for i in range(start, end) if lines[i].split("=")[0].strip() == key]
+        if at:
+            lines[at[0]] = line
+        else:
+            added.append(line)
+    lines[end:end] = [f"# The candidate {arm} (scripts/experiments/suite.py CANDIDATES):"] + added
+    return "\n".join(lines)
 
 
 # The methods each task is run with: their folders under OUT/<task>/runs and their names.
 ARMS = ("logo", "trpo", "bc")
 # What a task's table shows: those, and LOGO's runs made with an earlier preset that let
 # δ_k decay (kept as logo-decayed where a task has them).
-REPORTED = ("logo", "logo-decayed", "trpo", "bc")
+REPORTED = ("logo", "logo-decayed", "logo-waiting", "trpo", "bc")
 ARM_NAMES = {"logo": "LOGO (new-task preset)", "logo-decayed": "LOGO, δ_k decaying",
+             "logo-waiting": "LOGO, δ_k waiting for 0.9 at the goal",
              "trpo": "TRPO", "bc": "BC"}
 
 
@@ -396,10 +422,12 @@ def run(out: Path, names, seeds: str, iterations: int | None = None, arms=ARMS):
         if task.get("python"):
             run_python(folder, name, seeds, iterations, arms)
             continue
-        logo, trpo = configs(folder, name)
-        if "logo" in arms:
-            refuse_other_runs(folder / "runs" / "logo", tomllib.loads(logo.read_text()))
-        for config in (logo, trpo):
+        written = configs(folder, name)
+        for config in written:
+            if config.stem != "trpo" and config.stem in arms:
+                refuse_other_runs(folder / "runs" / config.stem, tomllib.loads(config.read_text()))
+        logo = written[0]
+        for config in written:
             todo = unfinished(folder / "runs" / config.stem, seeds) if config.stem in arms else []
             if not todo:
                 continue
@@ -437,15 +465,18 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
     the Python env), with the same arms and the new-task preset."""
     task = TASKS[name]
     preset = tomllib.loads(PRESET.read_text())
-    if {"logo", "trpo"} & set(arms) and _logo_rl_preset() != preset:
+    if {"logo", "trpo", *CANDIDATES} & set(arms) and _logo_rl_preset() != preset:
         raise SystemExit(f"logo_rl's new-task preset is not {PRESET} as it is now (the package "
                          "was built before the file changed): build it again, scripts/setup.sh")
     if "logo" in arms:
         refuse_other_runs(folder / "runs" / "logo", preset)
+    for arm in CANDIDATES.keys() & set(arms):
+        guidance = {**preset["guidance"], **CANDIDATES[arm]}
+        refuse_other_runs(folder / "runs" / arm, {**preset, "guidance": guidance})
     demos = ROOT / "data" / "suite" / name / "demos"
     n = iterations or task["budget"] // preset["samples_per_iter"]
     for seed in seed_range(seeds):
-        for arm in [a for a in ("logo", "trpo") if a in arms]:
+        for arm in [a for a in ("logo", *CANDIDATES, "trpo") if a in arms]:
             run_dir = folder / "runs" / arm / f"seed{seed}"
             if (run_dir / "eval.json").is_file():
                 continue
@@ -453,7 +484,9 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
             if (run_dir / "checkpoint.safetensors").is_file():
                 logo_rl.train(resume=run_dir, env=task["env"], progress=False)
                 continue
-            arm_keys = {"demos": demos} if arm == "logo" else {"guidance": None}
+            arm_keys = {"guidance": None} if arm == "trpo" else {"demos": demos}
+            if arm in CANDIDATES:
+                arm_keys["guidance"] = CANDIDATES[arm]
             logo_rl.train("new-task", env=task["env"], out=run_dir, seed=seed, iterations=n,
                           success=task["success"], progress=False, **arm_keys)
         bc = folder / "runs" / "bc" / f"seed{seed}"
@@ -515,7 +548,7 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
     copies to (relative to docs/results/; docs/results/suite without --keep)."""
     runs = out / name / "runs"
     seeds: dict[str, list[tuple[int, dict]]] = {}
-    arms = [a for a in REPORTED if a != "logo-decayed" or (runs / a).is_dir()]
+    arms = [a for a in REPORTED if a in ARMS or (runs / a).is_dir()]
     for arm in arms:
         found = []
         for folder in sorted(runs.glob(f"{arm}/seed*"), key=lambda p: int(p.name[4:])):
@@ -596,14 +629,15 @@ def keep_seed(source: Path, dest: Path):
 
 
 def learning_figure(keep: Path, name: str):
-    """LOGO's (both presets' where kept) and TRPO's training curves, IQM over seeds with
-    95% bands: the share of sampled episodes at the goal (the return where the task has
-    none), as KEEP/<task>.png and its data as .csv."""
+    """LOGO's (each preset's and candidate's where kept) and TRPO's training curves, IQM
+    over seeds with 95% bands: the share of sampled episodes at the goal (the return where
+    the task has none), as KEEP/<task>.png and its data as .csv."""
     task = TASKS[name]
     metric, what = (("train_sparse_return", "sampled episodes' return")
                     if task["success"] == "none" else
                     ("train_success", "share of sampled episodes at the goal"))
-    arms = [arm for arm in ("logo", "logo-decayed", "trpo") if (keep / name / arm).is_dir()]
+    arms = [arm for arm in ("logo", "logo-decayed", *CANDIDATES, "trpo")
+            if (keep / name / arm).is_dir()]
     if not arms:
         return
     groups = [keep / name / arm for arm in arms]
@@ -639,8 +673,9 @@ def main(argv=None):
     r.add_argument("--iterations", type=int, default=None,
                    help="fewer iterations than the budget's (a smoke test)")
     r.add_argument("--arms", default=",".join(ARMS),
-                   help="the methods to run, of " + ", ".join(ARMS) + " (a changed preset "
-                   "needs only logo run again)")
+                   help="the methods to run, of " + ", ".join(ARMS + tuple(CANDIDATES)) +
+                   " (a changed preset needs only logo run again; a candidate preset is "
+                   "run only when named)")
     p = sub.add_parser("report", help="each task's table of final policies")
     p.add_argument("out", type=Path)
     p.add_argument("tasks", nargs="*", default=list(TASKS))
@@ -658,8 +693,9 @@ def main(argv=None):
         parser.error(f"unknown task(s) {', '.join(unknown)}; the tasks: {', '.join(TASKS)}")
     if args.command == "run":
         arms = tuple(a.strip() for a in args.arms.split(","))
-        if not arms or any(a not in ARMS for a in arms):
-            parser.error(f"--arms {args.arms!r}: expected some of {', '.join(ARMS)}, "
+        known = ARMS + tuple(CANDIDATES)
+        if not arms or any(a not in known for a in arms):
+            parser.error(f"--arms {args.arms!r}: expected some of {', '.join(known)}, "
                          "separated by commas")
         run(args.out, args.tasks, args.seeds, args.iterations, arms)
     elif args.command == "report":

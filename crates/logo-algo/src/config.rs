@@ -250,6 +250,12 @@ pub struct GuidanceConfig {
     /// cost the return also rises as the actions shrink, with the goal out of reach).
     #[serde(default)]
     pub decay_on: DecaySignal,
+    /// With `decay_on = "success"`: δ_k shrinks only at iterations in which at least this
+    /// share of the batch's episodes reached the goal (in (0, 1]), instead of at each that
+    /// beats the ten before; it waits for the agent. A task that reports no success never
+    /// reaches it, so δ_k holds there. Default: unset (LOGO's rule).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub decay_from: Option<f64>,
     /// Observation dims the discriminator sees (censored setting); default: all.
     pub observe: Option<usize>,
     #[serde_inline_default(3e-4)]
@@ -583,6 +589,7 @@ impl TrainConfig {
     fn check_combinations(&self) -> Result<(), Invalid> {
         if let Some(g) = &self.guidance
             && g.decay_on == DecaySignal::Success
+            && g.decay_from.is_none()
             && self.success == SuccessRule::None
         {
             return Err(format!(
@@ -791,9 +798,10 @@ impl GuidanceConfig {
     /// stays at its floor (the step never runs).
     pub fn schedule(&self) -> DeltaSchedule {
         match (self.step, self.delta0, self.alpha, self.warmup) {
-            (true, Some(delta0), Some(alpha), Some(warmup)) => {
-                DeltaSchedule::new(delta0, alpha, warmup)
-            }
+            (true, Some(delta0), Some(alpha), Some(warmup)) => match self.decay_from {
+                Some(level) => DeltaSchedule::waiting(delta0, alpha, warmup, level),
+                None => DeltaSchedule::new(delta0, alpha, warmup),
+            },
             _ => DeltaSchedule::new(DELTA_FLOOR, 1.0, 0),
         }
     }
@@ -804,6 +812,7 @@ impl GuidanceConfig {
             ("delta0", self.delta0.is_some()),
             ("alpha", self.alpha.is_some()),
             ("warmup", self.warmup.is_some()),
+            ("decay_from", self.decay_from.is_some()),
             ("update", self.update.is_some()),
             ("critic", self.critic.is_some()),
         ];
@@ -835,6 +844,22 @@ impl GuidanceConfig {
         let alpha = self.alpha.unwrap_or_default();
         if !(alpha > 0.0 && alpha <= 1.0) {
             return Err(format!("guidance.alpha must be in (0, 1], got {alpha}").into());
+        }
+        if let Some(level) = self.decay_from {
+            if !(level > 0.0 && level <= 1.0) {
+                return Err(format!(
+                    "guidance.decay_from must be a share of the batch's episodes, in (0, 1], \
+                     got {level}"
+                )
+                .into());
+            }
+            if self.decay_on != DecaySignal::Success {
+                return Err(
+                    "guidance.decay_from is a share of episodes at the goal: set \
+                     guidance.decay_on = \"success\" with it"
+                        .into(),
+                );
+            }
         }
         Ok(())
     }

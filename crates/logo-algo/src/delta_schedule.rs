@@ -7,14 +7,20 @@ use std::collections::VecDeque;
 use serde::{Deserialize, Serialize};
 
 /// δ_k: starts at δ_0; after the warm-up (iterations > K_δ, 0-based) it shrinks by α each
-/// time the batch's mean sparse return beats the mean of the previous (up to) 10, down
-/// to [`DELTA_FLOOR`]; guidance stops once δ_k is at or below [`GUIDANCE_THRESHOLD`], just
-/// above the floor (docs/reference.md).
+/// time the batch's decay signal (its mean sparse return in LOGO) beats the mean of the
+/// previous (up to) 10, down to [`DELTA_FLOOR`]; guidance stops once δ_k is at or below
+/// [`GUIDANCE_THRESHOLD`], just above the floor (docs/reference.md). With a level
+/// (`decay_from`) it shrinks instead at each iteration whose signal, a share of the
+/// batch's episodes at the goal, is at least that level: it waits for the agent.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DeltaSchedule {
     pub delta: f64,
     pub alpha: f64,
     pub warmup: usize,
+    /// The level from which δ_k shrinks; absent in LOGO's rule (and in checkpoints made
+    /// before it existed, which therefore load unchanged).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub decay_from: Option<f64>,
     window: VecDeque<f64>,
 }
 
@@ -30,22 +36,37 @@ impl DeltaSchedule {
             delta: delta0,
             alpha,
             warmup,
+            decay_from: None,
             window: VecDeque::new(),
         }
     }
 
-    /// Feeds iteration `iteration`'s mean sparse training return.
-    pub fn update(&mut self, iteration: usize, sparse_return: f64) {
-        if iteration > self.warmup && !self.window.is_empty() {
-            let previous = self.window.iter().sum::<f64>() / self.window.len() as f64;
-            if sparse_return > previous {
-                self.delta = (self.alpha * self.delta).max(DELTA_FLOOR);
-            }
+    /// The same, shrinking only at iterations whose signal reaches `level`.
+    pub fn waiting(delta0: f64, alpha: f64, warmup: usize, level: f64) -> Self {
+        Self {
+            decay_from: Some(level),
+            ..Self::new(delta0, alpha, warmup)
+        }
+    }
+
+    /// Feeds iteration `iteration`'s decay signal (the mean sparse training return, or the
+    /// batch's share of episodes at the goal).
+    pub fn update(&mut self, iteration: usize, signal: f64) {
+        let shrink = iteration > self.warmup
+            && match self.decay_from {
+                Some(level) => signal >= level,
+                None => {
+                    !self.window.is_empty()
+                        && signal > self.window.iter().sum::<f64>() / self.window.len() as f64
+                }
+            };
+        if shrink {
+            self.delta = (self.alpha * self.delta).max(DELTA_FLOOR);
         }
         if self.window.len() == WINDOW {
             self.window.pop_front();
         }
-        self.window.push_back(sparse_return);
+        self.window.push_back(signal);
     }
 
     /// What a resume state must hold for a run whose config starts δ at `delta0`: δ in
@@ -61,6 +82,11 @@ impl DeltaSchedule {
         }
         if !(self.alpha > 0.0 && self.alpha <= 1.0) {
             return Err(format!("α = {} is outside (0, 1]", self.alpha).into());
+        }
+        if let Some(level) = self.decay_from
+            && !(level > 0.0 && level <= 1.0)
+        {
+            return Err(format!("decay_from = {level} is outside (0, 1]").into());
         }
         if self.window.len() > WINDOW || self.window.iter().any(|r| !r.is_finite()) {
             return Err(format!(
@@ -109,5 +135,44 @@ mod tests {
         // Just above the threshold guidance runs; at it, it does not.
         assert!(DeltaSchedule::new(GUIDANCE_THRESHOLD * 1.01, 0.9, 0).guidance_on());
         assert!(!DeltaSchedule::new(GUIDANCE_THRESHOLD, 0.9, 0).guidance_on());
+    }
+
+    #[test]
+    fn a_waiting_schedule_shrinks_at_the_level_and_only_there() {
+        // Rising shares below the level: LOGO's rule shrinks at each; the waiting one never.
+        let (mut logo, mut waiting) = (
+            DeltaSchedule::new(0.01, 0.9, 2),
+            DeltaSchedule::waiting(0.01, 0.9, 2, 0.9),
+        );
+        for i in 0..10 {
+            let share = 0.05 * i as f64;
+            logo.update(i, share);
+            waiting.update(i, share);
+        }
+        assert!(logo.delta < 0.01 * 0.9_f64.powi(6));
+        assert_eq!(waiting.delta, 0.01);
+        // At the level, steady (not beating the window's mean): the waiting rule shrinks
+        // every iteration, LOGO's not once.
+        let mut steady = DeltaSchedule::new(0.01, 0.9, 0);
+        steady.update(0, 0.9);
+        for i in 10..13 {
+            waiting.update(i, 0.9);
+            steady.update(i - 9, 0.9);
+        }
+        assert!((waiting.delta - 0.01 * 0.9_f64.powi(3)).abs() < 1e-15);
+        assert_eq!(steady.delta, 0.01);
+        // Not within the warm-up, and not below the level after it.
+        let mut early = DeltaSchedule::waiting(0.01, 0.9, 5, 0.5);
+        for i in 0..=5 {
+            early.update(i, 1.0);
+        }
+        early.update(6, 0.49);
+        assert_eq!(early.delta, 0.01);
+        assert!(early.check(0.01).is_ok());
+        assert!(
+            DeltaSchedule::waiting(0.01, 0.9, 5, 1.5)
+                .check(0.01)
+                .is_err()
+        );
     }
 }

@@ -465,3 +465,50 @@ fn the_preset_holds_delta_and_decays_only_when_told() {
     assert!(decayed < 0.5 * delta0, "{decayed} from {delta0}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `decay_from`: a share in (0, 1], read with `decay_on = "success"` only, carried into
+/// the schedule; a task without a success may set it (δ_k then holds).
+#[test]
+fn decay_from_is_checked_and_reaches_the_schedule() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = std::env::temp_dir().join(format!("logo-decay-from-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let demos = root.join("data/logo/hopper").canonicalize().unwrap();
+    let load = |success: &str, guidance: &str| {
+        let path = dir.join("config.toml");
+        let text = format!(
+            "env = \"SparseHopper-v4\"\niterations = 1\nsamples_per_iter = 1000\nsuccess = \"{success}\"\n[guidance]\ndemos = {demos:?}\n\
+             delta0 = 0.01\nalpha = 0.9\nwarmup = 0\n{guidance}"
+        );
+        std::fs::write(&path, text).unwrap();
+        TrainConfig::load(&path).map_err(|e| e.to_string())
+    };
+    let waiting = load("task", "decay_on = \"success\"\ndecay_from = 0.9\n").unwrap();
+    let mut schedule = waiting.guidance.as_ref().unwrap().schedule();
+    assert_eq!(schedule.decay_from, Some(0.9));
+    schedule.update(1, 0.89);
+    assert_eq!(schedule.delta, 0.01);
+    schedule.update(2, 0.9);
+    assert!((schedule.delta - 0.009).abs() < 1e-15);
+    // Without it, the schedule is LOGO's.
+    let logo = load("task", "decay_on = \"success\"\n").unwrap();
+    assert_eq!(logo.guidance.unwrap().schedule().decay_from, None);
+    // A task with no goal: decay_on = "success" alone is refused, with decay_from accepted.
+    assert!(load("none", "decay_on = \"success\"\n").is_err());
+    assert!(load("none", "decay_on = \"success\"\ndecay_from = 0.9\n").is_ok());
+    for (guidance, expected) in [
+        ("decay_from = 0.9\n", "set guidance.decay_on = \"success\""),
+        (
+            "decay_on = \"success\"\ndecay_from = 1.5\n",
+            "in (0, 1], got 1.5",
+        ),
+        (
+            "decay_on = \"success\"\ndecay_from = 0.0\n",
+            "in (0, 1], got 0",
+        ),
+    ] {
+        let message = load("task", guidance).unwrap_err();
+        assert!(message.contains(expected), "{guidance:?}: {message}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -198,7 +198,9 @@ impl<E: Engine> Trainer<E> {
         let Some(g) = self.learner.guidance.as_mut().filter(|_| step) else {
             return Ok(None);
         };
-        g.schedule.update(k, decay_signal(&self.config, batch)?);
+        if let Some(signal) = decay_signal(&self.config, batch)? {
+            g.schedule.update(k, signal);
+        }
         if !g.schedule.guidance_on() {
             return Ok(None);
         }
@@ -296,20 +298,26 @@ fn rewardless(batch: &Batch, other: bool) -> bool {
 }
 
 /// What δ_k's schedule reads of `batch`: its mean return, or its success rate
-/// (`[guidance] decay_on`); a task that reports no success cannot give the latter.
-fn decay_signal(config: &TrainConfig, batch: &Batch) -> Result<f64, TrainError> {
-    let on = config.guidance.as_ref().map(|g| g.decay_on);
-    if on != Some(DecaySignal::Success) {
-        return Ok(batch.mean_return());
+/// (`[guidance] decay_on`). A task that reports no success cannot give the latter: an
+/// error, unless the schedule waits for a level (`decay_from`), which such a task never
+/// reaches (None: δ_k holds).
+fn decay_signal(config: &TrainConfig, batch: &Batch) -> Result<Option<f64>, TrainError> {
+    let Some(g) = config.guidance.as_ref() else {
+        return Ok(Some(batch.mean_return()));
+    };
+    if g.decay_on != DecaySignal::Success {
+        return Ok(Some(batch.mean_return()));
     }
-    batch.success_rate(config.success).ok_or_else(|| {
-        Invalid::new(format!(
-            "guidance.decay_on = \"success\": no episode of the batch reported reaching its \
-             goal or not (the task defines no success); set success = \"terminated\" for a \
-             task that ends at its goal, or report info[\"is_success\"]; {NO_GOAL_HINT}"
-        ))
-        .into()
-    })
+    let success = batch.success_rate(config.success);
+    if success.is_some() || g.decay_from.is_some() {
+        return Ok(success);
+    }
+    Err(Invalid::new(format!(
+        "guidance.decay_on = \"success\": no episode of the batch reported reaching its goal \
+         or not (the task defines no success); set success = \"terminated\" for a task that \
+         ends at its goal, or report info[\"is_success\"]; {NO_GOAL_HINT}"
+    ))
+    .into())
 }
 
 /// Step 3's output while the guidance step runs.
