@@ -403,9 +403,8 @@ def suite_finals(group):
     return finals
 
 
-SUITE_ARMS = {"logo": "LOGO (new-task preset)", "logo-decayed": "LOGO, δ_k decaying",
-              "logo-waiting": "LOGO, δ_k waiting for 0.9 at the goal",
-              "trpo": "TRPO", "bc": "BC"}
+sys.path.insert(0, str(Path(__file__).resolve().parent / "experiments"))
+from suite_arms import ARM_NAMES as SUITE_ARMS  # noqa: E402 (the suite's own names)
 
 
 def check_suite(opts, header, body, compare, wrong):

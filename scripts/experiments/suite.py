@@ -41,6 +41,7 @@ import numpy as np
 
 import logo_rl
 from logo_rl.stats import interval, interval_two, iqm, probability_of_improvement
+from suite_arms import ARM_NAMES
 
 ROOT = Path(__file__).resolve().parents[2]
 PRESET = ROOT / "configs" / "templates" / "new_task.toml"
@@ -407,12 +408,9 @@ def candidate(body: str, arm: str, keys: dict) -> str:
 
 # The methods each task is run with: their folders under OUT/<task>/runs and their names.
 ARMS = ("logo", "trpo", "bc")
-# What a task's table shows: those, and LOGO's runs made with an earlier preset that let
-# δ_k decay (kept as logo-decayed where a task has them).
-REPORTED = ("logo", "logo-decayed", "logo-waiting", "trpo", "bc")
-ARM_NAMES = {"logo": "LOGO (new-task preset)", "logo-decayed": "LOGO, δ_k decaying",
-             "logo-waiting": "LOGO, δ_k waiting for 0.9 at the goal",
-             "trpo": "TRPO", "bc": "BC"}
+# What a task's table shows, where kept: those, LOGO's runs made with an earlier preset
+# that let δ_k decay (logo-decayed), and the candidates (ARM_NAMES' order).
+REPORTED = tuple(ARM_NAMES)
 
 
 def run(out: Path, names, seeds: str, iterations: int | None = None, arms=ARMS):

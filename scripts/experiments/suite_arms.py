@@ -1,0 +1,11 @@
+"""The suite's methods as its tables name them: one list for suite.py, which writes the
+tables, and scripts/check_results.py, which checks them (and imports nothing heavy)."""
+
+# A method's folder under <task>/runs and its name in the tables.
+ARM_NAMES = {
+    "logo": "LOGO (new-task preset)",
+    "logo-decayed": "LOGO, δ_k decaying",
+    "logo-waiting": "LOGO, δ_k waiting for 0.9 at the goal",
+    "trpo": "TRPO",
+    "bc": "BC",
+}
