@@ -1,0 +1,47 @@
+//! δ_k's decay in a training run: `decay_on = "success"` reads the batch's share at the
+//! goal; with `decay_from` a task that reports no success holds δ_k, without it the run
+//! stops with an error saying what to set.
+
+use logo_algo::{TrainConfig, Trainer};
+use logo_nn::Kernels;
+use logo_testkit::{Tiny, scratch};
+
+/// δ_k after each of `iterations` iterations of `tiny`.
+fn deltas(tiny: Tiny, name: &str, iterations: usize) -> Result<Vec<f64>, String> {
+    let dir = scratch(name);
+    let config = TrainConfig::load(&tiny.write(&dir.join("config.toml"))).unwrap();
+    let mut trainer = Trainer::new(Kernels, config, &dir.join("run")).unwrap();
+    let result = (0..iterations)
+        .map(|_| trainer.step().map(|m| m.delta_k).map_err(|e| e.to_string()))
+        .collect();
+    drop(trainer);
+    let _ = std::fs::remove_dir_all(&dir);
+    result
+}
+
+#[test]
+fn a_waiting_decay_shrinks_on_the_batchs_success_and_holds_without_one() {
+    // Dense IDP: every episode ends by falling, which "terminated" counts as the goal.
+    let on_success = Tiny::logo()
+        .set("iterations", 3)
+        .set("env", "InvertedDoublePendulum-v4")
+        .set("guidance.alpha", 0.5)
+        .set("guidance.decay_on", "success");
+    let waiting = on_success.clone().set("guidance.decay_from", 0.01);
+    // Each batch is at the level, so δ_k halves after the first iteration (no warm-up).
+    let reached = deltas(
+        waiting.clone().set("success", "terminated"),
+        "decay-reached",
+        3,
+    );
+    assert_eq!(reached.unwrap(), [0.2, 0.1, 0.05]);
+    // Judged by "task", dense IDP reports no success: δ_k holds.
+    assert_eq!(deltas(waiting, "decay-held", 3).unwrap(), [0.2, 0.2, 0.2]);
+    // Without decay_from, LOGO's rule on success: the run stops, naming what to set.
+    let e = deltas(on_success, "decay-no-success", 1).unwrap_err();
+    assert!(
+        e.contains("no episode of the batch reported reaching its goal")
+            && e.contains("success = \"terminated\""),
+        "{e}"
+    );
+}
