@@ -161,6 +161,7 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, Invalid>
         update: None,
         critic: None,
         decay_on: DecaySignal::default(),
+        decay_from: None,
         ..guidance.clone()
     };
     match name {

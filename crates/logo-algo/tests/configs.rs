@@ -269,6 +269,19 @@ fn compare_makes_the_baselines_of_the_config_folders() {
             assert_eq!(made, shipped, "{}", path.display());
         }
     }
+    // A LOGO config whose δ_k waits for the agent: the methods without the guidance step
+    // drop its schedule's keys, and every baseline is made.
+    let mut waiting = TrainConfig::load(&root.join("logo/hopper.toml")).unwrap();
+    let guidance = waiting.guidance.as_mut().unwrap();
+    guidance.decay_on = logo_algo::config::DecaySignal::Success;
+    guidance.decay_from = Some(0.9);
+    for algo in BASELINES {
+        let made = configure(&waiting, algo).unwrap_or_else(|e| panic!("{algo}: {e}"));
+        assert!(
+            made.guidance.is_none_or(|g| g.decay_from.is_none()),
+            "{algo}"
+        );
+    }
 }
 
 /// `[algorithm] name = "…"` over the TRPO config (or LOGO's, for its variants) gives the

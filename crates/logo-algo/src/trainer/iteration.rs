@@ -198,7 +198,7 @@ impl<E: Engine> Trainer<E> {
         let Some(g) = self.learner.guidance.as_mut().filter(|_| step) else {
             return Ok(None);
         };
-        if let Some(signal) = decay_signal(&self.config, batch)? {
+        if let Some(signal) = decay_signal(&self.config, k, batch)? {
             g.schedule.update(k, signal);
         }
         if !g.schedule.guidance_on() {
@@ -297,11 +297,12 @@ fn rewardless(batch: &Batch, other: bool) -> bool {
     !other && batch.rewards.iter().all(|&r| r == 0.0)
 }
 
-/// What δ_k's schedule reads of `batch`: its mean return, or its success rate
-/// (`[guidance] decay_on`). A task that reports no success cannot give the latter: an
+/// What δ_k's schedule reads of iteration `k`'s `batch`: its mean return, or its success
+/// rate (`[guidance] decay_on`). A task that reports no success cannot give the latter: an
 /// error, unless the schedule waits for a level (`decay_from`), which such a task never
-/// reaches (None: δ_k holds).
-fn decay_signal(config: &TrainConfig, batch: &Batch) -> Result<Option<f64>, TrainError> {
+/// reaches (None: δ_k holds; said at a run's first iteration, in case the user expected
+/// a success the task does not report).
+fn decay_signal(config: &TrainConfig, k: usize, batch: &Batch) -> Result<Option<f64>, TrainError> {
     let Some(g) = config.guidance.as_ref() else {
         return Ok(Some(batch.mean_return()));
     };
@@ -309,6 +310,13 @@ fn decay_signal(config: &TrainConfig, batch: &Batch) -> Result<Option<f64>, Trai
         return Ok(Some(batch.mean_return()));
     }
     let success = batch.success_rate(config.success);
+    if success.is_none() && g.decay_from.is_some() && k == 0 {
+        eprintln!(
+            "note: guidance.decay_from: no episode of the first batch reported reaching its \
+             goal or not (success = \"{}\"), so δ_k holds at δ_0 while none does",
+            format!("{:?}", config.success).to_lowercase()
+        );
+    }
     if success.is_some() || g.decay_from.is_some() {
         return Ok(success);
     }

@@ -396,10 +396,19 @@ impl Learned {
         }
         let refused = |what: &str| Err(TrainError::Resume(format!("resume state: {what}")));
         match (&self.guidance, &config.guidance) {
-            (Some(learned), Some(g)) => learned
-                .schedule
-                .check(g.schedule().delta)
-                .at("resume state schedule"),
+            (Some(learned), Some(g)) => {
+                // decay_signal reads the config's level, the schedule its own: one level.
+                if learned.schedule.decay_from != g.decay_from {
+                    return refused(&format!(
+                        "the δ schedule's decay_from is {:?}, the config's {:?}",
+                        learned.schedule.decay_from, g.decay_from
+                    ));
+                }
+                learned
+                    .schedule
+                    .check(g.schedule().delta)
+                    .at("resume state schedule")
+            }
             (None, Some(_)) => refused("no δ schedule for the guidance step"),
             (Some(_), None) => refused("a guidance state, but no [guidance]"),
             (None, None) => Ok(()),
