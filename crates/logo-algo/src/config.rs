@@ -204,9 +204,30 @@ pub(crate) const NO_GOAL_HINT: &str = "for a task with no goal, consider holding
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DecaySignal {
+    /// The batch's mean return (LOGO's).
     #[default]
     Return,
+    /// The share of the batch's (sampled) episodes at the goal.
     Success,
+    /// The share of the evaluation's episodes (the mean action, the policy a run reports)
+    /// at the goal: δ_{k+1} is set from π_{k+1}'s evaluation, at the end of iteration k.
+    Evaluation,
+}
+
+impl DecaySignal {
+    /// Whether it reads episodes' success (and so needs a success rule).
+    pub fn reads_success(self) -> bool {
+        self != Self::Return
+    }
+
+    /// Its name in a config.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Return => "return",
+            Self::Success => "success",
+            Self::Evaluation => "evaluation",
+        }
+    }
 }
 
 /// The networks' float type: a config's `dtype` and the `--dtype` flag.
@@ -245,13 +266,15 @@ pub struct GuidanceConfig {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub warmup: Option<usize>,
     /// What δ_k's decay reads: the batch's mean return (`"return"`, LOGO's: on its
-    /// sparse tasks the return rises only as the agent earns), or the share of the
-    /// batch's episodes that succeed by `success` (`"success"`: on a task with an action
-    /// cost the return also rises as the actions shrink, with the goal out of reach).
+    /// sparse tasks the return rises only as the agent earns), the share of the batch's
+    /// episodes that succeed by `success` (`"success"`: on a task with an action cost the
+    /// return also rises as the actions shrink, with the goal out of reach), or the share
+    /// of the evaluation's (`"evaluation"`: the mean action, which on sparse Ant lost the
+    /// goal while the sampled episodes still reached it).
     #[serde(default)]
     pub decay_on: DecaySignal,
-    /// With `decay_on = "success"`: δ_k shrinks only at iterations in which at least this
-    /// share of the batch's episodes reached the goal (in (0, 1]), instead of at each that
+    /// With `decay_on = "success"` or `"evaluation"`: δ_k shrinks only where at least
+    /// this share of the episodes read reached the goal (in (0, 1]), instead of where it
     /// beats the ten before; it waits for the agent. A task that reports no success never
     /// reaches it, so δ_k holds there. Default: unset (LOGO's rule).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -588,13 +611,14 @@ impl TrainConfig {
     /// Settings that cannot go together.
     fn check_combinations(&self) -> Result<(), Invalid> {
         if let Some(g) = &self.guidance
-            && g.decay_on == DecaySignal::Success
+            && g.decay_on.reads_success()
             && g.decay_from.is_none()
             && self.success == SuccessRule::None
         {
             return Err(format!(
-                "guidance.decay_on = \"success\" needs a success rule: success = \"task\" \
-                 or \"terminated\", not \"none\"; {NO_GOAL_HINT}"
+                "guidance.decay_on = \"{}\" needs a success rule: success = \"task\" \
+                 or \"terminated\", not \"none\"; {NO_GOAL_HINT}",
+                g.decay_on.name()
             )
             .into());
         }
@@ -853,10 +877,10 @@ impl GuidanceConfig {
                 )
                 .into());
             }
-            if self.decay_on != DecaySignal::Success {
+            if !self.decay_on.reads_success() {
                 return Err(
                     "guidance.decay_from is a share of episodes at the goal: set \
-                     guidance.decay_on = \"success\" with it"
+                     guidance.decay_on = \"success\" or \"evaluation\" with it"
                         .into(),
                 );
             }

@@ -1,6 +1,7 @@
 //! δ_k's decay in a training run: `decay_on = "success"` reads the batch's share at the
-//! goal; with `decay_from` a task that reports no success holds δ_k, without it the run
-//! stops with an error saying what to set.
+//! goal, `"evaluation"` the evaluation's (δ_{k+1} from π_{k+1}'s); with `decay_from` a task
+//! that reports no success holds δ_k, without it the run stops with an error saying what
+//! to set.
 
 use logo_algo::{TrainConfig, Trainer};
 use logo_nn::Kernels;
@@ -42,6 +43,37 @@ fn a_waiting_decay_shrinks_on_the_batchs_success_and_holds_without_one() {
     assert!(
         e.contains("no episode of the batch reported reaching its goal")
             && e.contains("success = \"terminated\""),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_decay_on_the_evaluation_reads_the_mean_actions_episodes() {
+    // Dense IDP: every episode ends by falling, which "terminated" counts as the goal.
+    let on_evaluation = Tiny::logo()
+        .set("iterations", 3)
+        .set("env", "InvertedDoublePendulum-v4")
+        .set("guidance.alpha", 0.5)
+        .set("guidance.decay_on", "evaluation");
+    let waiting = on_evaluation.clone().set("guidance.decay_from", 0.01);
+    // π_1's evaluation is at the level: δ_1 = δ_0 / 2, and so on.
+    let reached = deltas(
+        waiting.clone().set("success", "terminated"),
+        "eval-reached",
+        3,
+    );
+    assert_eq!(reached.unwrap(), [0.2, 0.1, 0.05]);
+    // Evaluated at iterations 0, 2, ... (eval_every = 2): δ moves only after one.
+    let sparse = waiting
+        .clone()
+        .set("success", "terminated")
+        .set("eval_every", 2);
+    assert_eq!(deltas(sparse, "eval-every-2", 3).unwrap(), [0.2, 0.1, 0.1]);
+    // Judged by "task", dense IDP reports no success: δ_k holds.
+    assert_eq!(deltas(waiting, "eval-held", 3).unwrap(), [0.2, 0.2, 0.2]);
+    let e = deltas(on_evaluation, "eval-no-success", 1).unwrap_err();
+    assert!(
+        e.contains("decay_on = \"evaluation\": no episode of the evaluation"),
         "{e}"
     );
 }

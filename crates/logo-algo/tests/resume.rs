@@ -88,6 +88,18 @@ fn a_killed_gail_run_resumes_to_the_same_final_checkpoint() {
     check("gail", gail);
 }
 
+/// δ_k decaying on the evaluation: set at the end of an iteration, so the checkpoint must
+/// carry δ_{k+1} (dense IDP ends every episode by falling, "terminated" a success).
+#[test]
+fn a_killed_run_decaying_on_its_evaluation_resumes_to_the_same_final_checkpoint() {
+    let on_evaluation = algorithm(true)
+        .set("env", "InvertedDoublePendulum-v4")
+        .set("success", "terminated")
+        .set("guidance.decay_on", "evaluation")
+        .set("guidance.decay_from", 0.5);
+    check("decay-on-evaluation", on_evaluation);
+}
+
 /// DAPG: behaviour cloning, NPG steps with the demonstrations' rows (their weight decays
 /// with the iteration, so a resume must continue k).
 #[test]

@@ -31,7 +31,7 @@ use super::Trainer;
 use super::learner::{Advantages, CriticFits, advantages};
 use super::recorder::Stopwatch;
 use super::resources::{Collected, Resources};
-use crate::config::{DecaySignal, NO_GOAL_HINT, TrainConfig};
+use crate::config::{DecaySignal, GuidanceConfig, NO_GOAL_HINT, TrainConfig};
 use crate::episode::Evaluation;
 use crate::error::{Invalid, TrainError};
 use crate::guidance::{Guidance, GuidanceReward};
@@ -67,6 +67,7 @@ impl<E: Engine> Trainer<E> {
         let guidance = in_phase("advantages", || {
             self.guidance_stream(k, batch, &data, mixed.as_ref())
         })?;
+        let delta_k = self.delta_k();
         let t_advantages = clock.lap();
 
         self.learner.iteration += 1;
@@ -89,10 +90,13 @@ impl<E: Engine> Trainer<E> {
         let later = self
             .steps_and_fits(inputs, &env)
             .map_err(|e| self.stopped(e))?;
+        // 8b. With decay_on = "evaluation": δ_{k+1} from π_{k+1}'s evaluation.
+        self.decay_on_evaluation(k + 1, later.evaluation.as_ref())?;
         let row = IterationMetrics {
             t_sampling: collected.seconds + t_upload,
             t_advantages,
             demo_weight,
+            delta_k,
             ..IterationMetrics::default()
         };
         self.record(k, row, batch, guidance.as_ref(), later)
@@ -233,6 +237,40 @@ impl<E: Engine> Trainer<E> {
         }))
     }
 
+    /// The δ_k the guidance step runs with this iteration; 0 without the step (GAIL,
+    /// POfD, TRPO).
+    fn delta_k(&self) -> f64 {
+        match (&self.learner.guidance, self.config.guidance_update()) {
+            (Some(g), Some(_)) => g.schedule.delta,
+            _ => 0.0,
+        }
+    }
+
+    /// Step 8b (`decay_on = "evaluation"`): the schedule reads the share of π_{k+1}'s
+    /// evaluation episodes at the goal, as iteration `next`'s signal; an iteration
+    /// without an evaluation (`eval_every`) leaves δ as it is.
+    fn decay_on_evaluation(
+        &mut self,
+        next: usize,
+        evaluation: Option<&Evaluation>,
+    ) -> Result<(), TrainError> {
+        let Some(g) = self.config.guidance.as_ref() else {
+            return Ok(());
+        };
+        let (Some(guidance), Some(evaluation)) = (self.learner.guidance.as_mut(), evaluation)
+        else {
+            return Ok(());
+        };
+        if g.decay_on != DecaySignal::Evaluation || !g.step {
+            return Ok(());
+        }
+        let share = unjudged(g, evaluation.success, next - 1, "evaluation", &self.config)?;
+        if let Some(share) = share {
+            guidance.schedule.update(next, share);
+        }
+        Ok(())
+    }
+
     /// Steps 4-8 of iteration `k`, laid over the threads by the schedule: the one place
     /// that says what runs beside what.
     fn steps_and_fits(
@@ -297,33 +335,52 @@ fn rewardless(batch: &Batch, other: bool) -> bool {
     !other && batch.rewards.iter().all(|&r| r == 0.0)
 }
 
-/// What δ_k's schedule reads of iteration `k`'s `batch`: its mean return, or its success
-/// rate (`[guidance] decay_on`). A task that reports no success cannot give the latter: an
-/// error, unless the schedule waits for a level (`decay_from`), which such a task never
-/// reaches (None: δ_k holds; said at a run's first iteration, in case the user expected
-/// a success the task does not report).
+/// What δ_k's schedule reads of iteration `k`'s `batch` at step 3: its mean return, or
+/// its success rate (`[guidance] decay_on`); nothing where it reads the evaluation (step
+/// 8b).
 fn decay_signal(config: &TrainConfig, k: usize, batch: &Batch) -> Result<Option<f64>, TrainError> {
     let Some(g) = config.guidance.as_ref() else {
         return Ok(Some(batch.mean_return()));
     };
-    if g.decay_on != DecaySignal::Success {
-        return Ok(Some(batch.mean_return()));
+    match g.decay_on {
+        DecaySignal::Return => Ok(Some(batch.mean_return())),
+        DecaySignal::Success => unjudged(g, batch.success_rate(config.success), k, "batch", config),
+        DecaySignal::Evaluation => Ok(None),
     }
-    let success = batch.success_rate(config.success);
-    if success.is_none() && g.decay_from.is_some() && k == 0 {
-        eprintln!(
-            "note: guidance.decay_from: no episode of the first batch reported reaching its \
-             goal or not (success = \"{}\"), so δ_k holds at δ_0 while none does",
-            format!("{:?}", config.success).to_lowercase()
-        );
+}
+
+/// A share of episodes at the goal as the schedule reads it. Where the task reports no
+/// success: an error, unless the schedule waits for a level (`decay_from`), which such a
+/// task never reaches (None: δ_k holds; said at a run's first iteration, in case the user
+/// expected a success the task does not report).
+fn unjudged(
+    g: &GuidanceConfig,
+    share: Option<f64>,
+    k: usize,
+    episodes: &str,
+    config: &TrainConfig,
+) -> Result<Option<f64>, TrainError> {
+    if share.is_some() {
+        return Ok(share);
     }
-    if success.is_some() || g.decay_from.is_some() {
-        return Ok(success);
+    let (on, rule) = (
+        g.decay_on.name(),
+        format!("{:?}", config.success).to_lowercase(),
+    );
+    if g.decay_from.is_some() {
+        if k == 0 {
+            eprintln!(
+                "note: guidance.decay_from: no episode of the first {episodes} reported \
+                 reaching its goal or not (success = \"{rule}\"), so δ_k holds at δ_0 while \
+                 none does"
+            );
+        }
+        return Ok(None);
     }
     Err(Invalid::new(format!(
-        "guidance.decay_on = \"success\": no episode of the batch reported reaching its goal \
-         or not (the task defines no success); set success = \"terminated\" for a task that \
-         ends at its goal, or report info[\"is_success\"]; {NO_GOAL_HINT}"
+        "guidance.decay_on = \"{on}\": no episode of the {episodes} reported reaching its \
+         goal or not (the task defines no success); set success = \"terminated\" for a task \
+         that ends at its goal, or report info[\"is_success\"]; {NO_GOAL_HINT}"
     ))
     .into())
 }

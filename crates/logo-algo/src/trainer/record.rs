@@ -40,7 +40,8 @@ impl<E: Engine> Trainer<E> {
         Ok(row)
     }
 
-    /// The metrics.csv row of iteration `k` (the timings of steps 1-3 are in `timed`).
+    /// The metrics.csv row of iteration `k` (the timings of steps 1-3 and δ_k are in
+    /// `timed`).
     fn metrics_row(
         &self,
         k: usize,
@@ -70,11 +71,6 @@ impl<E: Engine> Trainer<E> {
             eval_moved: eval(|e| e.moved),
             eval_action_rms: eval(|e| e.action_rms),
             eval_success: eval(|e| e.success.unwrap_or(f64::NAN)),
-            delta_k: match (&self.learner.guidance, self.config.guidance_update()) {
-                (Some(g), Some(_)) => g.schedule.delta,
-                // No guidance step: no δ_k (GAIL, POfD, TRPO).
-                _ => 0.0,
-            },
             guidance_reward: stream.map_or(f64::NAN, |s| s.mean_reward),
             mean_log_std: self.learner.policy.log_std.iter().sum::<f64>()
                 / self.learner.policy.act_dim() as f64,
