@@ -328,7 +328,8 @@ GUIDANCE_DEFAULTS = {"decay_on": "return", "discriminator_steps": 1}
 # Candidates for the preset: arms that are its LOGO config with these guidance keys
 # changed, run beside it to decide what the preset should be. `logo-waiting`: δ_k shrinks
 # only at iterations where at least 0.9 of the batch's (sampled) episodes reached the goal;
-# `logo-eval-waiting`: only after evaluations (the mean action) with 9 of 10 at the goal.
+# `logo-eval-waiting`: only after evaluations (the mean action) with at least 0.9 of their
+# episodes at the goal.
 CANDIDATES = {
     "logo-waiting": {"alpha": 0.9, "decay_on": "success", "decay_from": 0.9},
     "logo-eval-waiting": {"alpha": 0.9, "decay_on": "evaluation", "decay_from": 0.9},

@@ -6,7 +6,7 @@ ARM_NAMES = {
     "logo": "LOGO (new-task preset)",
     "logo-decayed": "LOGO, δ_k decaying",
     "logo-waiting": "LOGO, δ_k waiting for 0.9 of the batch at the goal",
-    "logo-eval-waiting": "LOGO, δ_k waiting for 9 of 10 evaluations at the goal",
+    "logo-eval-waiting": "LOGO, δ_k waiting for 0.9 of the evaluation at the goal",
     "trpo": "TRPO",
     "bc": "BC",
 }

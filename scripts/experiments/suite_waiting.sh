@@ -4,8 +4,8 @@
 # the held preset (logo) and of LOGO's own decay (logo-decayed):
 #   logo-waiting       δ_k shrinks by α = 0.9 at iterations where at least 0.9 of the
 #                      batch's sampled episodes reached the goal;
-#   logo-eval-waiting  δ_k shrinks by α = 0.9 after each evaluation (the mean action, 10
-#                      episodes) with at least 9 of 10 at the goal.
+#   logo-eval-waiting  δ_k shrinks by α = 0.9 after each evaluation (the mean action, at
+#                      least 10 whole episodes) with at least 0.9 of them at the goal.
 # The delayed Hopper reports no success, so there both hold δ_k as the preset does: not run.
 # A queue of (arm, task, seed) items that copies of this script share (queue.sh): start one
 # copy per free vCPU. A Python env's run (maze, mountain-car) does not resume exactly, so
