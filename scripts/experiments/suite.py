@@ -15,8 +15,8 @@ find its goal.
 trains, on each task of logo-rl's envs, LOGO with the new-task preset and TRPO (the same
 config without its guidance) for the task's budget with `logo sweep` (finished runs are
 skipped, interrupted ones resume), and behaviour cloning (`logo bc`, which evaluates its
-policy), all from the demonstrations in data/suite/<task>/demos (--arms: only these). `list`
-prints the tasks.
+policy), all from the demonstrations in data/suite/<task>/demos (--arms: only these; a
+candidate preset, CANDIDATES below, runs only when named there). `list` prints the tasks.
 
     .venv/bin/python scripts/experiments/suite.py report OUT [TASK ...] [--keep DOCS]
 
@@ -364,7 +364,8 @@ def write_if_changed(path: Path, text: str):
 
 
 def configs(out: Path, name: str) -> list[Path]:
-    """The task's LOGO (new-task preset) and TRPO configs, written under out/configs."""
+    """The task's LOGO (new-task preset), TRPO and candidate configs, written under
+    out/configs."""
     task = TASKS[name]
     preset = tomllib.loads(PRESET.read_text())
     iterations = task["budget"] // preset["samples_per_iter"]
