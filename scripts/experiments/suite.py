@@ -305,6 +305,8 @@ def demos(out: Path, names, episodes, seed):
 
 
 def toml_value(value):
+    if isinstance(value, bool):
+        return "true" if value else "false"
     if isinstance(value, str):
         return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
     return repr(value)
@@ -322,17 +324,21 @@ def replace_line(text: str, line: str, new: str) -> str:
 
 # The guidance keys a kept run must share with the preset, and the defaults of those a
 # config may leave out (docs/config.md).
-GUIDANCE_KEYS = ("delta0", "alpha", "warmup", "decay_on", "decay_from", "discriminator_steps")
-GUIDANCE_DEFAULTS = {"decay_on": "return", "discriminator_steps": 1}
+GUIDANCE_KEYS = ("delta0", "alpha", "warmup", "decay_on", "decay_from", "grow_back",
+                 "discriminator_steps")
+GUIDANCE_DEFAULTS = {"decay_on": "return", "discriminator_steps": 1, "grow_back": False}
 
 # Candidates for the preset: arms that are its LOGO config with these guidance keys
 # changed, run beside it to decide what the preset should be. `logo-waiting`: δ_k shrinks
 # only at iterations where at least 0.9 of the batch's (sampled) episodes reached the goal;
 # `logo-eval-waiting`: only after evaluations (the mean action) with at least 0.9 of their
-# episodes at the goal.
+# episodes at the goal; `logo-eval-following`: so, and after the others it grows back by
+# 1/α, up to δ_0.
 CANDIDATES = {
     "logo-waiting": {"alpha": 0.9, "decay_on": "success", "decay_from": 0.9},
     "logo-eval-waiting": {"alpha": 0.9, "decay_on": "evaluation", "decay_from": 0.9},
+    "logo-eval-following": {"alpha": 0.9, "decay_on": "evaluation", "decay_from": 0.9,
+                            "grow_back": True},
 }
 
 

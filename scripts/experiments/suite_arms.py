@@ -7,6 +7,7 @@ ARM_NAMES = {
     "logo-decayed": "LOGO, δ_k decaying",
     "logo-waiting": "LOGO, δ_k waiting for 0.9 of the batch at the goal",
     "logo-eval-waiting": "LOGO, δ_k waiting for 0.9 of the evaluation at the goal",
+    "logo-eval-following": "LOGO, δ_k following the evaluation's 0.9 at the goal",
     "trpo": "TRPO",
     "bc": "BC",
 }

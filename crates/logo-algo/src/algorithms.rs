@@ -162,6 +162,7 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, Invalid>
         critic: None,
         decay_on: DecaySignal::default(),
         decay_from: None,
+        grow_back: false,
         ..guidance.clone()
     };
     match name {

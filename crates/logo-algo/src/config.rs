@@ -279,6 +279,11 @@ pub struct GuidanceConfig {
     /// reaches it, so δ_k holds there. Default: unset (LOGO's rule).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decay_from: Option<f64>,
+    /// With `decay_from`: where the share falls short of it, δ_k grows back by 1/α, up to
+    /// δ_0, so that the guidance returns when the agent loses the goal (true); false, the
+    /// default: δ_k only ever shrinks.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub grow_back: bool,
     /// Observation dims the discriminator sees (censored setting); default: all.
     pub observe: Option<usize>,
     #[serde_inline_default(3e-4)]
@@ -822,10 +827,13 @@ impl GuidanceConfig {
     /// stays at its floor (the step never runs).
     pub fn schedule(&self) -> DeltaSchedule {
         match (self.step, self.delta0, self.alpha, self.warmup) {
-            (true, Some(delta0), Some(alpha), Some(warmup)) => match self.decay_from {
-                Some(level) => DeltaSchedule::waiting(delta0, alpha, warmup, level),
-                None => DeltaSchedule::new(delta0, alpha, warmup),
-            },
+            (true, Some(delta0), Some(alpha), Some(warmup)) => {
+                match (self.decay_from, self.grow_back) {
+                    (Some(level), true) => DeltaSchedule::following(delta0, alpha, warmup, level),
+                    (Some(level), false) => DeltaSchedule::waiting(delta0, alpha, warmup, level),
+                    (None, _) => DeltaSchedule::new(delta0, alpha, warmup),
+                }
+            }
             _ => DeltaSchedule::new(DELTA_FLOOR, 1.0, 0),
         }
     }
@@ -837,6 +845,7 @@ impl GuidanceConfig {
             ("alpha", self.alpha.is_some()),
             ("warmup", self.warmup.is_some()),
             ("decay_from", self.decay_from.is_some()),
+            ("grow_back", self.grow_back),
             ("update", self.update.is_some()),
             ("critic", self.critic.is_some()),
         ];
@@ -868,6 +877,13 @@ impl GuidanceConfig {
         let alpha = self.alpha.unwrap_or_default();
         if !(alpha > 0.0 && alpha <= 1.0) {
             return Err(format!("guidance.alpha must be in (0, 1], got {alpha}").into());
+        }
+        if self.grow_back && self.decay_from.is_none() {
+            return Err(
+                "guidance.grow_back needs guidance.decay_from: the level below which \
+                 δ_k grows back"
+                    .into(),
+            );
         }
         if let Some(level) = self.decay_from {
             if !(level > 0.0 && level <= 1.0) {

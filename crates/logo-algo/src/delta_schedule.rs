@@ -21,6 +21,10 @@ pub struct DeltaSchedule {
     /// before it existed, which therefore load unchanged).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub decay_from: Option<f64>,
+    /// With a level: where the signal falls short of it, δ_k grows back by 1/α, up to
+    /// this (δ_0), so that the guidance returns when the agent loses the goal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grow_back_to: Option<f64>,
     window: VecDeque<f64>,
 }
 
@@ -37,6 +41,7 @@ impl DeltaSchedule {
             alpha,
             warmup,
             decay_from: None,
+            grow_back_to: None,
             window: VecDeque::new(),
         }
     }
@@ -46,6 +51,15 @@ impl DeltaSchedule {
         Self {
             decay_from: Some(level),
             ..Self::new(delta0, alpha, warmup)
+        }
+    }
+
+    /// The waiting schedule that also grows back, up to δ_0, where the signal falls
+    /// short of `level`.
+    pub fn following(delta0: f64, alpha: f64, warmup: usize, level: f64) -> Self {
+        Self {
+            grow_back_to: Some(delta0),
+            ..Self::waiting(delta0, alpha, warmup, level)
         }
     }
 
@@ -62,6 +76,10 @@ impl DeltaSchedule {
             };
         if shrink {
             self.delta = (self.alpha * self.delta).max(DELTA_FLOOR);
+        } else if let Some(ceiling) = self.grow_back_to
+            && iteration > self.warmup
+        {
+            self.delta = (self.delta / self.alpha).min(ceiling);
         }
         if self.window.len() == WINDOW {
             self.window.pop_front();
@@ -87,6 +105,13 @@ impl DeltaSchedule {
             && !(level > 0.0 && level <= 1.0)
         {
             return Err(format!("decay_from = {level} is outside (0, 1]").into());
+        }
+        if self.grow_back_to.is_some_and(|ceiling| ceiling != delta0) {
+            return Err(format!(
+                "δ_k grows back to {:?}, not to δ_0 = {delta0}",
+                self.grow_back_to
+            )
+            .into());
         }
         if self.window.len() > WINDOW || self.window.iter().any(|r| !r.is_finite()) {
             return Err(format!(
@@ -174,5 +199,32 @@ mod tests {
                 .check(0.01)
                 .is_err()
         );
+    }
+
+    #[test]
+    fn a_following_schedule_grows_back_below_the_level_up_to_delta0() {
+        let mut s = DeltaSchedule::following(0.01, 0.5, 1, 0.9);
+        s.update(0, 0.0); // within the warm-up: nothing
+        s.update(1, 1.0);
+        assert_eq!(s.delta, 0.01);
+        for (i, share, delta) in [(2, 1.0, 0.005), (3, 0.95, 0.0025), (4, 0.5, 0.005)] {
+            s.update(i, share);
+            assert!(
+                (s.delta - delta).abs() < 1e-15,
+                "iteration {i}: {}",
+                s.delta
+            );
+        }
+        for i in 5..10 {
+            s.update(i, 0.0);
+        }
+        assert_eq!(s.delta, 0.01); // up to δ_0, not past it
+        assert!(s.check(0.01).is_ok());
+        assert!(s.check(0.02).is_err());
+        // The waiting schedule alone never grows back.
+        let mut waiting = DeltaSchedule::waiting(0.01, 0.5, 0, 0.9);
+        waiting.update(1, 1.0);
+        waiting.update(2, 0.0);
+        assert_eq!(waiting.delta, 0.005);
     }
 }

@@ -398,10 +398,13 @@ impl Learned {
         match (&self.guidance, &config.guidance) {
             (Some(learned), Some(g)) => {
                 // decay_signal reads the config's level, the schedule its own: one level.
-                if learned.schedule.decay_from != g.decay_from {
+                let (kept, wanted) = (&learned.schedule, g.schedule());
+                if (kept.decay_from, kept.grow_back_to) != (wanted.decay_from, wanted.grow_back_to)
+                {
                     return refused(&format!(
-                        "the δ schedule's decay_from is {:?}, the config's {:?}",
-                        learned.schedule.decay_from, g.decay_from
+                        "the δ schedule's decay_from and grow-back are {:?} and {:?}, the \
+                         config's {:?} and {:?}",
+                        kept.decay_from, kept.grow_back_to, wanted.decay_from, wanted.grow_back_to
                     ));
                 }
                 learned
