@@ -508,9 +508,15 @@ fn decay_from_is_checked_and_reaches_the_schedule() {
     let following = "decay_on = \"evaluation\"\ndecay_from = 0.9\ngrow_back = true\n";
     let following = load("task", following).unwrap();
     let schedule = following.guidance.as_ref().unwrap().schedule();
-    assert_eq!((schedule.decay_from, schedule.grow_back_to), (Some(0.9), Some(0.01)));
+    assert_eq!(
+        (schedule.decay_from, schedule.grow_back_to),
+        (Some(0.9), Some(0.01))
+    );
     let message = load("task", "grow_back = true\n").unwrap_err();
-    assert!(message.contains("grow_back needs guidance.decay_from"), "{message}");
+    assert!(
+        message.contains("grow_back needs guidance.decay_from"),
+        "{message}"
+    );
     let logo = load("task", "decay_on = \"success\"\n").unwrap();
     assert_eq!(logo.guidance.unwrap().schedule().decay_from, None);
     // A task with no goal: decay_on = "success" alone is refused, with decay_from accepted.
