@@ -888,7 +888,7 @@ impl GuidanceConfig {
         if let Some(level) = self.decay_from {
             if !(level > 0.0 && level <= 1.0) {
                 return Err(format!(
-                    "guidance.decay_from must be a share of the batch's episodes, in (0, 1], \
+                    "guidance.decay_from must be a share of episodes, in (0, 1], \
                      got {level}"
                 )
                 .into());

@@ -10,8 +10,8 @@ use serde::{Deserialize, Serialize};
 /// time the batch's decay signal (its mean sparse return in LOGO) beats the mean of the
 /// previous (up to) 10, down to [`DELTA_FLOOR`]; guidance stops once δ_k is at or below
 /// [`GUIDANCE_THRESHOLD`], just above the floor (docs/reference.md). With a level
-/// (`decay_from`) it shrinks instead at each iteration whose signal, a share of the
-/// batch's episodes at the goal, is at least that level: it waits for the agent.
+/// (`decay_from`) it shrinks instead at each iteration whose signal, a share of episodes
+/// at the goal, is at least that level: it waits for the agent.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DeltaSchedule {
     pub delta: f64,
@@ -66,25 +66,29 @@ impl DeltaSchedule {
     /// Feeds iteration `iteration`'s decay signal (the mean sparse training return, or the
     /// batch's share of episodes at the goal).
     pub fn update(&mut self, iteration: usize, signal: f64) {
-        let shrink = iteration > self.warmup
-            && match self.decay_from {
-                Some(level) => signal >= level,
-                None => {
-                    !self.window.is_empty()
-                        && signal > self.window.iter().sum::<f64>() / self.window.len() as f64
-                }
-            };
-        if shrink {
-            self.delta = (self.alpha * self.delta).max(DELTA_FLOOR);
-        } else if let Some(ceiling) = self.grow_back_to
-            && iteration > self.warmup
-        {
-            self.delta = (self.delta / self.alpha).min(ceiling);
+        if iteration > self.warmup {
+            if self.improved(signal) {
+                self.delta = (self.alpha * self.delta).max(DELTA_FLOOR);
+            } else if let Some(ceiling) = self.grow_back_to {
+                self.delta = (self.delta / self.alpha).min(ceiling);
+            }
         }
         if self.window.len() == WINDOW {
             self.window.pop_front();
         }
         self.window.push_back(signal);
+    }
+
+    /// Whether `signal` earns a shrink: at the level where there is one, else above the
+    /// window's mean (LOGO's rule; never on the first signal).
+    fn improved(&self, signal: f64) -> bool {
+        match self.decay_from {
+            Some(level) => signal >= level,
+            None => {
+                !self.window.is_empty()
+                    && signal > self.window.iter().sum::<f64>() / self.window.len() as f64
+            }
+        }
     }
 
     /// What a resume state must hold for a run whose config starts δ at `delta0`: δ in

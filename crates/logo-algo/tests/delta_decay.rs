@@ -20,14 +20,20 @@ fn deltas(tiny: Tiny, name: &str, iterations: usize) -> Result<Vec<f64>, String>
     result
 }
 
-#[test]
-fn a_waiting_decay_shrinks_on_the_batchs_success_and_holds_without_one() {
-    // Dense IDP: every episode ends by falling, which "terminated" counts as the goal.
-    let on_success = Tiny::logo()
+/// Three iterations of LOGO on dense IDP, δ_k decaying by α = 0.5 on `decay_on`: every
+/// episode ends by falling, which `success = "terminated"` counts as the goal and the
+/// task's own rule ("task") does not judge at all.
+fn dense_idp(decay_on: &str) -> Tiny {
+    Tiny::logo()
         .set("iterations", 3)
         .set("env", "InvertedDoublePendulum-v4")
         .set("guidance.alpha", 0.5)
-        .set("guidance.decay_on", "success");
+        .set("guidance.decay_on", decay_on)
+}
+
+#[test]
+fn a_waiting_decay_shrinks_on_the_batchs_success_and_holds_without_one() {
+    let on_success = dense_idp("success");
     let waiting = on_success.clone().set("guidance.decay_from", 0.01);
     // Each batch is at the level, so δ_k halves after the first iteration (no warm-up).
     let reached = deltas(
@@ -49,12 +55,7 @@ fn a_waiting_decay_shrinks_on_the_batchs_success_and_holds_without_one() {
 
 #[test]
 fn a_decay_on_the_evaluation_reads_the_mean_actions_episodes() {
-    // Dense IDP: every episode ends by falling, which "terminated" counts as the goal.
-    let on_evaluation = Tiny::logo()
-        .set("iterations", 3)
-        .set("env", "InvertedDoublePendulum-v4")
-        .set("guidance.alpha", 0.5)
-        .set("guidance.decay_on", "evaluation");
+    let on_evaluation = dense_idp("evaluation");
     let waiting = on_evaluation.clone().set("guidance.decay_from", 0.01);
     // π_1's evaluation is at the level: δ_1 = δ_0 / 2, and so on.
     let reached = deltas(

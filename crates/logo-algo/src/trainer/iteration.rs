@@ -264,7 +264,7 @@ impl<E: Engine> Trainer<E> {
         if g.decay_on != DecaySignal::Evaluation || !g.step {
             return Ok(());
         }
-        let share = unjudged(g, evaluation.success, next - 1, "evaluation", &self.config)?;
+        let share = success_signal(&self.config, g, evaluation.success, next - 1, "evaluation")?;
         if let Some(share) = share {
             guidance.schedule.update(next, share);
         }
@@ -344,7 +344,9 @@ fn decay_signal(config: &TrainConfig, k: usize, batch: &Batch) -> Result<Option<
     };
     match g.decay_on {
         DecaySignal::Return => Ok(Some(batch.mean_return())),
-        DecaySignal::Success => unjudged(g, batch.success_rate(config.success), k, "batch", config),
+        DecaySignal::Success => {
+            success_signal(config, g, batch.success_rate(config.success), k, "batch")
+        }
         DecaySignal::Evaluation => Ok(None),
     }
 }
@@ -353,12 +355,12 @@ fn decay_signal(config: &TrainConfig, k: usize, batch: &Batch) -> Result<Option<
 /// success: an error, unless the schedule waits for a level (`decay_from`), which such a
 /// task never reaches (None: δ_k holds; said at a run's first iteration, in case the user
 /// expected a success the task does not report).
-fn unjudged(
+fn success_signal(
+    config: &TrainConfig,
     g: &GuidanceConfig,
     share: Option<f64>,
     k: usize,
     episodes: &str,
-    config: &TrainConfig,
 ) -> Result<Option<f64>, TrainError> {
     if share.is_some() {
         return Ok(share);
