@@ -2,7 +2,7 @@
 //! doc of `engine`).
 
 use burn::tensor::backend::Backend;
-use burn::tensor::{Int, Tensor, TensorData};
+use burn::tensor::{Int, Tensor, TensorCreationOptions, TensorData};
 
 /// The device of an engine's backend.
 pub type Device<E> = burn::tensor::Device<<E as Engine>::B>;
@@ -69,11 +69,17 @@ pub trait Engine: Send + Sync + 'static {
 }
 
 /// The rows of `t` at `indices` (dimension 0).
+///
+/// The index tensor names its dtype: made without one, it would fix the CPU device's
+/// default dtypes from `B`, and a float32 engine's minibatch would turn the float64
+/// modules made after it into float32 ones (tests/dtype_order.rs).
 pub fn select_rows<B: Backend, const D: usize>(
     t: &Tensor<B, D>,
     indices: &[usize],
 ) -> Tensor<B, D> {
     let idx: Vec<i64> = indices.iter().map(|&i| i as i64).collect();
-    let idx = Tensor::<B, 1, Int>::from_data(TensorData::new(idx, [indices.len()]), &t.device());
+    let options = TensorCreationOptions::new(t.device())
+        .with_dtype(<B::IntElem as burn::tensor::Element>::dtype());
+    let idx = Tensor::<B, 1, Int>::from_data(TensorData::new(idx, [indices.len()]), options);
     t.clone().select(0, idx)
 }
