@@ -867,8 +867,14 @@ def check_table(kind, opts, header, body):
             value = (config.get(table, {}) if table else config).get(key)
             if value is None:
                 raise SystemExit(f"config: {opts['file']} has no {row[0]}")
-            shown = f'`"{value}"`' if isinstance(value, str) else str(value).lower() if isinstance(value, bool) else str(value)
-            compare(r, 1, shown)
+            if isinstance(value, (str, bool)):
+                # Words are not numbers: agrees() would pass any of them.
+                shown = f'`"{value}"`' if isinstance(value, str) else str(value).lower()
+                checked += 1
+                if row[1].strip().strip("`") != shown.strip("`"):
+                    wrong.append((r + 1, header[1], row[1], shown))
+            else:
+                compare(r, 1, str(value))
     elif kind == "cells":
         for key, spec in opts.items():
             m = re.fullmatch(r"r(\d+)c(\d+)", key)

@@ -195,6 +195,7 @@ def main():
         "a wrong difference interval": VERSUS.replace("[−4092, 3996]", "[−4092, −100]"),
         "a wrong setting": CONFIG.replace("| 0.01 |", "| 0.2 |"),
         "a setting the file lacks": CONFIG.replace("[guidance] delta0", "[guidance] delta"),
+        "a wrong word setting": CONFIG.replace('`"task"`', '`"terminated"`'),
         "a suite task's wrong goal count": SUITE.replace("6, 4, 4, 8, 9", "6, 4, 4, 8, 8"),
         "a suite task's wrong IQM": SUITE.replace("41.5 [39.2", "41.4 [39.2"),
         "a suite task's wrong P": SUITE.replace("0.60 [0.20", "0.64 [0.20"),
