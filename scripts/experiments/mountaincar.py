@@ -31,12 +31,14 @@ PRESET = ROOT / "configs" / "templates" / "new_task.toml"
 TASK = "MountainCarContinuous-v0"
 LOW, HIGH = np.array([-1.2, -0.07]), np.array([0.6, 0.07])
 
-# The template before the study (commit 98dab0d): δ_0 0.2, one discriminator step, the
-# return driving δ_k, no normalisation, no KL check, 2,048 evaluation steps.
+# The template before the study (commit 98dab0d): δ_0 0.2, δ_k decaying by α = 0.9 on
+# the return, one discriminator step, no normalisation, no KL check, 2,048 evaluation
+# steps. Laid over the preset as it is now, so every setting the preset has changed since
+# is spelled out (the kept runs' config.toml files hold what each arm ran).
 OLD = dict(
     normalise_observations=False, success="terminated", eval_episodes=1,
     improvement={"kl_limit": 1e300},
-    guidance={"delta0": 0.2, "decay_on": "return", "discriminator_steps": 1},
+    guidance={"delta0": 0.2, "alpha": 0.9, "decay_on": "return", "discriminator_steps": 1},
 )
 
 
