@@ -16,7 +16,8 @@ trains, on each task of logo-rl's envs, LOGO with the new-task preset and TRPO (
 config without its guidance) for the task's budget with `logo sweep` (finished runs are
 skipped, interrupted ones resume), and behaviour cloning (`logo bc`, which evaluates its
 policy), all from the demonstrations in data/suite/<task>/demos (--arms: only these; a
-candidate preset, CANDIDATES below, runs only when named there). `list` prints the tasks.
+candidate preset, CANDIDATES below, and the seed's Figure 1 baselines, BASELINES below,
+run only when named there). `list` prints the tasks.
 
     .venv/bin/python scripts/experiments/suite.py report OUT [TASK ...] [--keep DOCS]
 
@@ -342,6 +343,27 @@ CANDIDATES = {
 }
 
 
+# The seed's Figure 1 baselines (docs/algorithms.md), each the task's LOGO config made into
+# that method by its own keys, as `logo compare` makes them (logo_rl's configure: GAIL and
+# POfD keep the discriminator without the guidance step, BC-TRPO and DAPG clone the
+# demonstrations first), run only when named by --arms.
+BASELINES = ("gail", "pofd", "bc-trpo", "dapg")
+
+
+def baseline_config(folder: Path, method: str, logo: Path, table: dict | None = None) -> Path:
+    """FOLDER/configs/METHOD.toml: the LOGO config LOGO (with TABLE laid over it) made into
+    METHOD."""
+    from logo_rl import _logo_rl
+
+    text = _logo_rl.configure(name=method, config=str(logo), table_json=json.dumps(table or {}),
+                              base=str(ROOT))
+    path = folder / "configs" / f"{method}.toml"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_if_changed(path, f"# {method}, made from {logo.name} as `logo compare` makes it "
+                     "(scripts/experiments/suite.py BASELINES)\n" + text)
+    return path
+
+
 def refuse_other_runs(arm: Path, config: dict):
     """Stops where a kept run of ARM was made with other guidance settings than CONFIG's:
     `logo sweep` would count it done (or resume it with its own config) under the new one.
@@ -370,8 +392,8 @@ def write_if_changed(path: Path, text: str):
 
 
 def configs(out: Path, name: str) -> list[Path]:
-    """The task's LOGO (new-task preset), TRPO and candidate configs, written under
-    out/configs."""
+    """The task's LOGO (new-task preset), TRPO, candidate and baseline configs, written
+    under out/configs."""
     task = TASKS[name]
     preset = tomllib.loads(PRESET.read_text())
     iterations = task["budget"] // preset["samples_per_iter"]
@@ -397,7 +419,8 @@ def configs(out: Path, name: str) -> list[Path]:
     write_if_changed(trpo, header + top + body[:cut].rstrip() + "\n")
     for arm, keys in CANDIDATES.items():
         write_if_changed(folder / f"{arm}.toml", header + top + candidate(body, arm, keys) + "\n")
-    return [logo, trpo] + [folder / f"{arm}.toml" for arm in CANDIDATES]
+    baselines = [baseline_config(out, method, logo) for method in BASELINES]
+    return [logo, trpo] + [folder / f"{arm}.toml" for arm in CANDIDATES] + baselines
 
 
 def candidate(body: str, arm: str, keys: dict) -> str:
@@ -434,7 +457,7 @@ def run(out: Path, names, seeds: str, iterations: int | None = None, arms=ARMS):
             continue
         written = configs(folder, name)
         for config in written:
-            if config.stem != "trpo" and config.stem in arms:
+            if config.stem in ("logo", *CANDIDATES) and config.stem in arms:
                 refuse_other_runs(folder / "runs" / config.stem, tomllib.loads(config.read_text()))
         logo = written[0]
         for config in written:
@@ -475,7 +498,7 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
     the Python env), with the same arms and the new-task preset."""
     task = TASKS[name]
     preset = tomllib.loads(PRESET.read_text())
-    if {"logo", "trpo", *CANDIDATES} & set(arms) and _logo_rl_preset() != preset:
+    if {"logo", "trpo", *CANDIDATES, *BASELINES} & set(arms) and _logo_rl_preset() != preset:
         raise SystemExit(f"logo_rl's new-task preset is not {PRESET} as it is now (the package "
                          "was built before the file changed): build it again, scripts/setup.sh")
     if "logo" in arms:
@@ -485,6 +508,9 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
         refuse_other_runs(folder / "runs" / arm, {**preset, "guidance": guidance})
     demos = ROOT / "data" / "suite" / name / "demos"
     n = iterations or task["budget"] // preset["samples_per_iter"]
+    made = {method: baseline_config(folder, method, PRESET, {
+        "success": task["success"], "iterations": n, "guidance": {"demos": str(demos)}})
+        for method in BASELINES if method in arms}
     for seed in seed_range(seeds):
         for arm in [a for a in ("logo", *CANDIDATES, "trpo") if a in arms]:
             run_dir = folder / "runs" / arm / f"seed{seed}"
@@ -499,6 +525,15 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
                 arm_keys["guidance"] = CANDIDATES[arm]
             logo_rl.train("new-task", env=task["env"], out=run_dir, seed=seed, iterations=n,
                           success=task["success"], progress=False, **arm_keys)
+        for method, config in made.items():
+            run_dir = folder / "runs" / method / f"seed{seed}"
+            if (run_dir / "eval.json").is_file():
+                continue
+            print(f"[suite] {name} {method}/seed{seed}", flush=True)
+            if (run_dir / "checkpoint.safetensors").is_file():
+                logo_rl.train(resume=run_dir, env=task["env"], progress=False)
+                continue
+            logo_rl.train(config, env=task["env"], out=run_dir, seed=seed, progress=False)
         bc = folder / "runs" / "bc" / f"seed{seed}"
         if "bc" in arms and final_policy(bc) is None and not (bc / "policy.safetensors").is_file():
             cloned = logo_rl.bc(demos, env=task["env"], seed=seed, success=task["success"],
@@ -646,7 +681,7 @@ def learning_figure(keep: Path, name: str):
     metric, what = (("train_sparse_return", "sampled episodes' return")
                     if task["success"] == "none" else
                     ("train_success", "share of sampled episodes at the goal"))
-    arms = [arm for arm in ("logo", "logo-decayed", *CANDIDATES, "trpo")
+    arms = [arm for arm in ("logo", "logo-decayed", *CANDIDATES, "trpo", *BASELINES)
             if (keep / name / arm).is_dir()]
     if not arms:
         return
@@ -683,9 +718,9 @@ def main(argv=None):
     r.add_argument("--iterations", type=int, default=None,
                    help="fewer iterations than the budget's (a smoke test)")
     r.add_argument("--arms", default=",".join(ARMS),
-                   help="the methods to run, of " + ", ".join(ARMS + tuple(CANDIDATES)) +
-                   " (a changed preset needs only logo run again; a candidate preset is "
-                   "run only when named)")
+                   help="the methods to run, of " + ", ".join(ARMS + tuple(CANDIDATES) + BASELINES) +
+                   " (a changed preset needs only logo run again; a candidate preset and the "
+                   "baselines are run only when named)")
     p = sub.add_parser("report", help="each task's table of final policies")
     p.add_argument("out", type=Path)
     p.add_argument("tasks", nargs="*", default=list(TASKS))
@@ -703,7 +738,7 @@ def main(argv=None):
         parser.error(f"unknown task(s) {', '.join(unknown)}; the tasks: {', '.join(TASKS)}")
     if args.command == "run":
         arms = tuple(a.strip() for a in args.arms.split(","))
-        known = ARMS + tuple(CANDIDATES)
+        known = ARMS + tuple(CANDIDATES) + BASELINES
         if not arms or any(a not in known for a in arms):
             parser.error(f"--arms {args.arms!r}: expected some of {', '.join(known)}, "
                          "separated by commas")

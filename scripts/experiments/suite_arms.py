@@ -9,5 +9,9 @@ ARM_NAMES = {
     "logo-eval-waiting": "LOGO, δ_k waiting for 0.9 of the evaluation at the goal",
     "logo-eval-following": "LOGO, δ_k following the evaluation's 0.9 at the goal",
     "trpo": "TRPO",
+    "gail": "GAIL",
+    "pofd": "POfD",
+    "bc-trpo": "BC-TRPO",
+    "dapg": "DAPG",
     "bc": "BC",
 }
