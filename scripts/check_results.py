@@ -540,10 +540,13 @@ def check_table(kind, opts, header, body):
     quoted = {int(c) for c in opts.get("quoted", "").split(",") if c}
     checked, wrong = 0, []
 
-    def compare(r, c, computed):
+    def compare(r, c, computed, words=False):
+        """words: the cell is `computed` as text (agrees() reads only numbers)."""
         nonlocal checked
         checked += 1
-        if not agrees(body[r][c], computed):
+        same = (body[r][c].strip().strip("`") == computed.strip("`") if words
+                else agrees(body[r][c], computed))
+        if not same:
             wrong.append((r + 1, header[c], body[r][c], computed))
 
     if kind == "summary":
@@ -867,14 +870,10 @@ def check_table(kind, opts, header, body):
             value = (config.get(table, {}) if table else config).get(key)
             if value is None:
                 raise SystemExit(f"config: {opts['file']} has no {row[0]}")
-            if isinstance(value, (str, bool)):
-                # Words are not numbers: agrees() would pass any of them.
-                shown = f'`"{value}"`' if isinstance(value, str) else str(value).lower()
-                checked += 1
-                if row[1].strip().strip("`") != shown.strip("`"):
-                    wrong.append((r + 1, header[1], row[1], shown))
-            else:
-                compare(r, 1, str(value))
+            words = isinstance(value, (str, bool))
+            shown = (f'`"{value}"`' if isinstance(value, str) else
+                     str(value).lower() if isinstance(value, bool) else str(value))
+            compare(r, 1, shown, words)
     elif kind == "cells":
         for key, spec in opts.items():
             m = re.fullmatch(r"r(\d+)c(\d+)", key)

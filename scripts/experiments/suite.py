@@ -508,11 +508,19 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
         refuse_other_runs(folder / "runs" / arm, {**preset, "guidance": guidance})
     demos = ROOT / "data" / "suite" / name / "demos"
     n = iterations or task["budget"] // preset["samples_per_iter"]
-    made = {method: baseline_config(folder, method, PRESET, {
-        "success": task["success"], "iterations": n, "guidance": {"demos": str(demos)}})
-        for method in BASELINES if method in arms}
+    # Each arm's config and keys for logo_rl.train: the preset with the arm's own keys, or
+    # (a baseline) the preset made into that method.
+    starts = {}
+    for arm in [a for a in ("logo", *CANDIDATES, "trpo") if a in arms]:
+        arm_keys = {"guidance": None} if arm == "trpo" else {"demos": demos}
+        if arm in CANDIDATES:
+            arm_keys["guidance"] = CANDIDATES[arm]
+        starts[arm] = ("new-task", dict(iterations=n, success=task["success"], **arm_keys))
+    for method in [m for m in BASELINES if m in arms]:
+        starts[method] = (baseline_config(folder, method, PRESET, {
+            "success": task["success"], "iterations": n, "guidance": {"demos": str(demos)}}), {})
     for seed in seed_range(seeds):
-        for arm in [a for a in ("logo", *CANDIDATES, "trpo") if a in arms]:
+        for arm, (config, arm_keys) in starts.items():
             run_dir = folder / "runs" / arm / f"seed{seed}"
             if (run_dir / "eval.json").is_file():
                 continue
@@ -520,20 +528,8 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
             if (run_dir / "checkpoint.safetensors").is_file():
                 logo_rl.train(resume=run_dir, env=task["env"], progress=False)
                 continue
-            arm_keys = {"guidance": None} if arm == "trpo" else {"demos": demos}
-            if arm in CANDIDATES:
-                arm_keys["guidance"] = CANDIDATES[arm]
-            logo_rl.train("new-task", env=task["env"], out=run_dir, seed=seed, iterations=n,
-                          success=task["success"], progress=False, **arm_keys)
-        for method, config in made.items():
-            run_dir = folder / "runs" / method / f"seed{seed}"
-            if (run_dir / "eval.json").is_file():
-                continue
-            print(f"[suite] {name} {method}/seed{seed}", flush=True)
-            if (run_dir / "checkpoint.safetensors").is_file():
-                logo_rl.train(resume=run_dir, env=task["env"], progress=False)
-                continue
-            logo_rl.train(config, env=task["env"], out=run_dir, seed=seed, progress=False)
+            logo_rl.train(config, env=task["env"], out=run_dir, seed=seed, progress=False,
+                          **arm_keys)
         bc = folder / "runs" / "bc" / f"seed{seed}"
         if "bc" in arms and final_policy(bc) is None and not (bc / "policy.safetensors").is_file():
             cloned = logo_rl.bc(demos, env=task["env"], seed=seed, success=task["success"],
