@@ -169,6 +169,23 @@ fn a_bc_trpo_config_clones_before_its_first_iteration() {
         policy_tensors(&run.join("checkpoint.safetensors")),
         policy_tensors(&again.join("checkpoint.safetensors"))
     );
+
+    // The clone is what the run starts from: without [init] the same config and seed
+    // train other tensors (a clone fitted and then dropped would leave them equal).
+    let plain = dir.join("plain.toml");
+    std::fs::write(&plain, text.split("[init]").next().unwrap()).unwrap();
+    let trpo = dir.join("trpo");
+    cli().succeed(&[
+        "train",
+        "--config",
+        plain.to_str().unwrap(),
+        "--out",
+        trpo.to_str().unwrap(),
+    ]);
+    assert_ne!(
+        policy_tensors(&run.join("checkpoint.safetensors")),
+        policy_tensors(&trpo.join("checkpoint.safetensors"))
+    );
 }
 
 #[test]
