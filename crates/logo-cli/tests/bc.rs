@@ -239,7 +239,22 @@ fn bad_bc_settings_are_errors_naming_them() {
 #[test]
 fn algorithms_lists_the_baselines() {
     let listed = cli().succeed(&["algorithms"]);
-    for name in ["trpo", "bc", "bc-trpo", "logo", "logo-ppo-cdq"] {
+    // The list: the Figure 1 methods and the seed paper's variants.
+    let names = [
+        "trpo",
+        "bc",
+        "bc-trpo",
+        "gail",
+        "pofd",
+        "dapg",
+        "logo",
+        "logo-ppo",
+        "logo-cdq",
+        "logo-ppo-cdq",
+        "logo-clip-in-trpo",
+        "logo-ppo-penalty",
+    ];
+    for name in names {
         assert!(
             listed.lines().any(|l| l.starts_with(&format!("{name} "))),
             "{name} missing from:\n{listed}"
