@@ -65,6 +65,29 @@ pub struct PlotArgs {
     /// Resamples for each point's interval (--band ci).
     #[arg(long, default_value_t = 2_000)]
     reps: usize,
+    /// Which corner the legend goes in: lower-right keeps it off curves that rise.
+    #[arg(long, value_enum, default_value_t = Legend::UpperLeft)]
+    legend: Legend,
+}
+
+/// The legend's corner.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Legend {
+    UpperLeft,
+    UpperRight,
+    LowerLeft,
+    LowerRight,
+}
+
+impl Legend {
+    fn position(self) -> SeriesLabelPosition {
+        match self {
+            Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
+            Legend::UpperRight => SeriesLabelPosition::UpperRight,
+            Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
+            Legend::LowerRight => SeriesLabelPosition::LowerRight,
+        }
+    }
 }
 
 /// The line drawn for a configuration.
@@ -311,6 +334,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         hlines: &hlines,
         title: &title,
         y_label: &metric.label(),
+        legend: args.legend,
     };
     match args.out.extension().and_then(|e| e.to_str()) {
         Some("png") => draw(
@@ -371,6 +395,7 @@ struct Figure<'a> {
     hlines: &'a [(String, f64)],
     title: &'a str,
     y_label: &'a str,
+    legend: Legend,
 }
 
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
@@ -457,7 +482,7 @@ where
     draw_lines(&mut chart, figure, x_max).map_err(err)?;
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
+        .position(figure.legend.position())
         .label_font(("sans-serif", 15))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK.mix(0.3))
