@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use logo_algo::config::RewardConfig;
 use logo_algo::discriminator::DiscriminatorTrainer;
 use logo_algo::{TrainConfig, Trainer};
 use logo_data::Demonstrations;
@@ -67,12 +68,31 @@ fn pofd_with_lambda_zero_trains_as_trpo() {
     // The same policy and critic, bit for bit; POfD also keeps its discriminator.
     assert!(pofd.iter().any(|(n, _)| n.starts_with("discriminator.")));
     assert_eq!(without(&pofd, "discriminator."), trpo);
-    // With λ₁ > 0 the discriminator's reward moves the policy.
+    // With λ₁ > 0 the discriminator's reward moves the policy, by λ₁: another λ₁ trains
+    // other tensors (a weight read as 1 whatever its value would leave them equal).
     let pofd = train(
         discriminator_reward(Tiny::trpo(), 1.0, 0.5),
         &scratch("pofd"),
     );
     assert_ne!(without(&pofd, "discriminator."), trpo);
+    let heavier = train(
+        discriminator_reward(Tiny::trpo(), 1.0, 1.0),
+        &scratch("pofd1"),
+    );
+    assert_ne!(
+        without(&heavier, "discriminator."),
+        without(&pofd, "discriminator.")
+    );
+}
+
+/// The improvement step's reward: env·r + λ·(−log D), each weight applied.
+#[test]
+fn the_mixed_reward_weighs_each_source() {
+    let mix = RewardConfig {
+        env: 2.0,
+        discriminator: 0.5,
+    };
+    assert_eq!(mix.mix(&[1.0, 3.0], &[10.0, 20.0]), vec![7.0, 16.0]);
 }
 
 #[test]
