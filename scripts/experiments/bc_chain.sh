@@ -15,8 +15,8 @@ mkdir -p "$out"
 "$logo" bc --config "configs/bc-trpo/$task.toml" --out "$out/bc.safetensors"
 # 2. Score the clone again from its checkpoint, as any policy.
 "$logo" eval --checkpoint "$out/bc.safetensors" --episodes 20
-# 3. TRPO from the clone: the TRPO config with `init_policy`, one iteration.
-# (Paths in a config are relative to its folder.)
-{ cat "configs/trpo/$task.toml"; echo 'init_policy = "bc.safetensors"'; } \
-  | sed 's/^iterations = .*/iterations = 1/' > "$out/trpo-from-bc.toml"
-"$logo" train --config "$out/trpo-from-bc.toml" --out "$out/trpo-from-bc" --threads 1
+# 3. TRPO from the clone: the TRPO config with `init_policy` (first, so that it stays a
+# top-level key; paths in a config are relative to its folder), one iteration.
+{ echo 'init_policy = "bc.safetensors"'; cat "configs/trpo/$task.toml"; } > "$out/trpo-from-bc.toml"
+"$logo" train --config "$out/trpo-from-bc.toml" --out "$out/trpo-from-bc" --threads 1 \
+  --iterations 1

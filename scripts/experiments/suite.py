@@ -680,17 +680,19 @@ def learning_figure(keep: Path, name: str):
     metric, what = (("train_sparse_return", "sampled episodes' return")
                     if task["success"] == "none" else
                     ("train_success", "share of sampled episodes at the goal"))
-    figures = {name: ("logo", "logo-decayed", *CANDIDATES, "trpo"),
-               f"{name}-baselines": ("logo", "trpo", *BASELINES)}
-    for figure, candidates in figures.items():
+    # (figure, its arms, the arms one of which must be kept for it to be drawn)
+    main_arms = ("logo", "logo-decayed", *CANDIDATES, "trpo")
+    figures = [(name, main_arms, main_arms),
+               (f"{name}-baselines", ("logo", "trpo", *BASELINES), BASELINES)]
+    legend = ["--legend", task["legend"]] if "legend" in task else []
+    for figure, candidates, needed in figures:
         arms = [arm for arm in candidates if (keep / name / arm).is_dir()]
-        if not set(arms) - {"logo", "trpo"} and figure != name:
+        if not set(arms) & set(needed):
             continue
         labels = [f"--label={arm}={ARM_NAMES[arm]}" for arm in arms]
         subprocess.run([LOGO, "plot", *(str(keep / name / arm) for arm in arms),
                         "--metric", metric, "--stat", "iqm", "--band", "ci", "--smooth", "5",
-                        *labels, "--legend", task.get("legend", "upper-left"),
-                        "--title", f"{name}: {what} (IQM, 95% band)",
+                        *labels, *legend, "--title", f"{name}: {what} (IQM, 95% band)",
                         "--out", str(keep / f"{figure}.png")],
                        check=True, env=LOGO_ENVIRONMENT, stdout=subprocess.DEVNULL)
 
