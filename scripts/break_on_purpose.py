@@ -2,7 +2,7 @@
 """Each baseline's tests must fail when its algorithm is broken. This breaks each one on
 purpose, one edit at a time, runs the tests that guard it, and puts the code back: every
 line should end "fails, as it must". Exit status 1 if a broken algorithm still passes
-its tests, 2 if an edit no longer applies or builds (update the list below). A few
+its tests, 2 if an edit no longer applies or builds (update the list below). About two
 minutes per edit: each rebuilds the crates above the change.
 
 Usage: scripts/break_on_purpose.py

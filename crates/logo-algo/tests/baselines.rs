@@ -68,17 +68,25 @@ fn pofd_with_lambda_zero_trains_as_trpo() {
     // The same policy and critic, bit for bit; POfD also keeps its discriminator.
     assert!(pofd.iter().any(|(n, _)| n.starts_with("discriminator.")));
     assert_eq!(without(&pofd, "discriminator."), trpo);
-    // With λ₁ > 0 the discriminator's reward moves the policy, by λ₁: another λ₁ trains
-    // other tensors (a weight read as 1 whatever its value would leave them equal).
+    // With λ₁ > 0 the discriminator's reward moves the policy.
     let pofd = train(
         discriminator_reward(Tiny::trpo(), 1.0, 0.5),
         &scratch("pofd"),
     );
     assert_ne!(without(&pofd, "discriminator."), trpo);
+}
+
+#[test]
+fn pofd_weighs_the_discriminator_by_lambda1() {
+    let pofd = train(
+        discriminator_reward(Tiny::trpo(), 1.0, 0.5),
+        &scratch("pofd-half"),
+    );
     let heavier = train(
         discriminator_reward(Tiny::trpo(), 1.0, 1.0),
         &scratch("pofd1"),
     );
+    // A weight read as 1 whatever its value would leave them equal.
     assert_ne!(
         without(&heavier, "discriminator."),
         without(&pofd, "discriminator.")

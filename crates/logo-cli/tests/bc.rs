@@ -173,6 +173,7 @@ fn a_bc_trpo_config_clones_before_its_first_iteration() {
     // The clone is what the run starts from: without [init] the same config and seed
     // train other tensors (a clone fitted and then dropped would leave them equal).
     let plain = dir.join("plain.toml");
+    // [init] is the config's last table, so the text before it is the config without it.
     std::fs::write(&plain, text.split("[init]").next().unwrap()).unwrap();
     let trpo = dir.join("trpo");
     cli().succeed(&[
@@ -237,9 +238,9 @@ fn bad_bc_settings_are_errors_naming_them() {
 }
 
 #[test]
-fn algorithms_lists_the_baselines() {
+fn algorithms_lists_figure_1_and_the_seed_variants() {
     let listed = cli().succeed(&["algorithms"]);
-    // The list: the Figure 1 methods and the seed paper's variants.
+    // The LOGO paper's Figure 1 methods, BC, and the seed paper's variants.
     let names = [
         "trpo",
         "bc",
