@@ -36,6 +36,10 @@ echo "== the tables of docs/findings/ and docs/history.md vs the metrics in docs
 .venv/bin/python scripts/check_results.py
 .venv/bin/python tests/python/check_results_fails.py
 
+echo "== every relative link and section link in the Markdown resolves"
+python3 scripts/check_links.py
+python3 tests/python/check_links_fails.py
+
 # Videos (crates/logo-cli/tests/video.rs): ffmpeg encodes, Mesa's EGL renders offscreen.
 if ! command -v ffmpeg >/dev/null || ! ls /usr/lib/*/libEGL_mesa.so.0 >/dev/null 2>&1; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
