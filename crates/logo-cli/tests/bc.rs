@@ -106,15 +106,7 @@ fn bc_writes_a_policy_that_eval_scores_and_a_run_starts_from() {
     )
     .unwrap();
     let run = dir.join("run");
-    cli().succeed(&[
-        "train",
-        "--config",
-        config.to_str().unwrap(),
-        "--out",
-        run.to_str().unwrap(),
-        "--iterations",
-        "1",
-    ]);
+    cli().train(&config, &run, &["--iterations", "1"]);
     let trained = policy_tensors(&run.join("checkpoint.safetensors"));
     let cloned = policy_tensors(&out);
     assert_eq!(trained.len(), cloned.len());
@@ -139,16 +131,7 @@ fn a_bc_trpo_config_clones_before_its_first_iteration() {
     );
     std::fs::write(&config, &text).unwrap();
     let run = dir.join("run");
-    let args = |out: &Path| {
-        vec![
-            "train".to_string(),
-            "--config".into(),
-            config.display().to_string(),
-            "--out".into(),
-            out.display().to_string(),
-        ]
-    };
-    let printed = cli().succeed(&args(&run).iter().map(String::as_str).collect::<Vec<_>>());
+    let printed = cli().train(&config, &run, &[]);
     assert!(
         printed.contains("started from behaviour cloning on"),
         "{printed}"
@@ -164,7 +147,7 @@ fn a_bc_trpo_config_clones_before_its_first_iteration() {
     );
     // The same config twice: the same numbers (BC draws from the run's seed).
     let again = dir.join("again");
-    cli().succeed(&args(&again).iter().map(String::as_str).collect::<Vec<_>>());
+    cli().train(&config, &again, &[]);
     assert_eq!(
         policy_tensors(&run.join("checkpoint.safetensors")),
         policy_tensors(&again.join("checkpoint.safetensors"))
@@ -176,13 +159,7 @@ fn a_bc_trpo_config_clones_before_its_first_iteration() {
     // [init] is the config's last table, so the text before it is the config without it.
     std::fs::write(&plain, text.split("[init]").next().unwrap()).unwrap();
     let trpo = dir.join("trpo");
-    cli().succeed(&[
-        "train",
-        "--config",
-        plain.to_str().unwrap(),
-        "--out",
-        trpo.to_str().unwrap(),
-    ]);
+    cli().train(&plain, &trpo, &[]);
     assert_ne!(
         policy_tensors(&run.join("checkpoint.safetensors")),
         policy_tensors(&trpo.join("checkpoint.safetensors"))

@@ -405,14 +405,7 @@ fn a_run_that_never_earns_keeps_its_latest_policy_as_best() {
     );
     std::fs::write(&config, text).unwrap();
     let out = dir.join("run");
-    cli().succeed(&[
-        "train",
-        "--config",
-        config.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--no-tensorboard",
-    ]);
+    cli().train(&config, &out, &["--no-tensorboard"]);
     let csv = std::fs::read_to_string(out.join("metrics.csv")).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     let column = header.iter().position(|h| *h == "eval_return").unwrap();

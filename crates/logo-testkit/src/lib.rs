@@ -76,16 +76,26 @@ impl Logo {
         String::from_utf8_lossy(&out.stdout).into_owned()
     }
 
+    /// `logo train --config config --out out` and `more` arguments, expected to succeed:
+    /// its standard output.
+    pub fn train(&self, config: &Path, out: &Path, more: &[&str]) -> String {
+        self.succeed(&[&train_args(config, out)[..], more].concat())
+    }
+
     /// `logo train --config config --out out`, expected to fail: its one-line error.
     pub fn train_error(&self, config: &Path, out: &Path) -> String {
-        one_line_error(&self.run(&[
-            "train",
-            "--config",
-            config.to_str().expect("a UTF-8 path"),
-            "--out",
-            out.to_str().expect("a UTF-8 path"),
-        ]))
+        one_line_error(&self.run(&train_args(config, out)))
     }
+}
+
+fn train_args<'a>(config: &'a Path, out: &'a Path) -> [&'a str; 5] {
+    [
+        "train",
+        "--config",
+        config.to_str().expect("a UTF-8 path"),
+        "--out",
+        out.to_str().expect("a UTF-8 path"),
+    ]
 }
 
 /// `config` (a `logo train` config's text) with its `env = ...` line replaced by an
