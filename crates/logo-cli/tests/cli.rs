@@ -155,15 +155,7 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
     let (dir, config) = tiny_run("train");
     let run = |name: &str| {
         let out_dir = dir.join(name);
-        let stdout = cli().succeed(&[
-            "train",
-            "--config",
-            config.to_str().unwrap(),
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--seed",
-            "3",
-        ]);
+        let stdout = cli().train(&config, &out_dir, &["--seed", "3"]);
         assert!(
             stdout.contains("[   2/2]")
                 && stdout.contains("final eval dense return")
@@ -242,15 +234,12 @@ fn a_tiny_logo_run_writes_metrics_and_a_checkpoint_and_is_reproducible() {
 fn a_run_keeps_its_best_policy_and_ends_with_eval_json() {
     let (dir, config) = tiny_run("best");
     let train = |out: &Path, iterations: &str, resume: bool| {
-        let out = out.to_str().unwrap();
-        let config = config.to_str().unwrap();
-        let args: Vec<&str> = if resume {
-            vec!["train", "--resume", out, "--iterations", iterations]
+        if resume {
+            let out = out.to_str().unwrap();
+            cli().succeed(&["train", "--resume", out, "--iterations", iterations])
         } else {
-            let first = ["train", "--config", config, "--out", out, "--seed", "1"];
-            [&first[..], &["--iterations", iterations]].concat()
-        };
-        cli().succeed(&args)
+            cli().train(&config, out, &["--seed", "1", "--iterations", iterations])
+        }
     };
     let whole = dir.join("whole");
     let stdout = train(&whole, "4", false);
@@ -330,31 +319,13 @@ fn observation_statistics_round_trip_through_checkpoints_and_eval() {
         "iterations = 3\nnormalise_observations = true",
     );
     std::fs::write(&config, text).unwrap();
-    let config = config.to_str().unwrap();
     let (whole, parts) = (dir.join("whole"), dir.join("parts"));
-    let (whole_s, parts_s) = (whole.to_str().unwrap(), parts.to_str().unwrap());
-    cli().succeed(&[
-        "train",
-        "--config",
-        config,
-        "--out",
-        whole_s,
-        "--no-tensorboard",
-    ]);
-    cli().succeed(&[
-        "train",
-        "--config",
-        config,
-        "--out",
-        parts_s,
-        "--iterations",
-        "2",
-        "--no-tensorboard",
-    ]);
+    cli().train(&config, &whole, &["--no-tensorboard"]);
+    cli().train(&config, &parts, &["--iterations", "2", "--no-tensorboard"]);
     cli().succeed(&[
         "train",
         "--resume",
-        parts_s,
+        parts.to_str().unwrap(),
         "--iterations",
         "3",
         "--no-tensorboard",

@@ -249,16 +249,7 @@ fn messages() -> String {
     );
     // A real run whose config.toml was edited after it: the resume state no longer fits.
     let run = dir.join("edited");
-    let tiny = text(&dir.join("tiny.toml"));
-    logo.succeed(&[
-        "train",
-        "--config",
-        &tiny,
-        "--out",
-        &text(&run),
-        "--iterations",
-        "1",
-    ]);
+    logo.train(&dir.join("tiny.toml"), &run, &["--iterations", "1"]);
     // Its resume state said to be of a newer format (the same length, so the header's
     // size still holds).
     let checkpoint = run.join("checkpoint.safetensors");

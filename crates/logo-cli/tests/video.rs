@@ -193,10 +193,8 @@ fn video_every_leaves_the_runs_numbers_bit_identical() {
         .write(&dir.join("tiny.toml"));
     let train = |name: &str, extra: &[&str]| {
         let out = dir.join(name);
-        let mut args = vec!["train", "--config", config.to_str().unwrap()];
-        args.extend(["--out", out.to_str().unwrap(), "--no-tensorboard"]);
-        args.extend(extra);
-        let printed = succeed(&args);
+        let more = [&["--no-tensorboard"], extra].concat();
+        let printed = Logo::new(env!("CARGO_BIN_EXE_logo")).train(&config, &out, &more);
         (out, printed)
     };
     let (plain, _) = train("plain", &[]);
