@@ -11,7 +11,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 export LOGO="${LOGO:-$PWD/target/release/logo}"
 python=.venv/bin/python
 source scripts/experiments/queue.sh
-tasks="${*:-mountain-car reacher-goal maze ant-distance hopper-delayed}"
+tasks="${*:-mountain-car reacher-goal maze hopper-delayed ant-distance}"
 for task in $tasks; do
   for seed in 0 1 2 3 4; do
     for method in gail pofd bc-trpo dapg; do
