@@ -32,14 +32,18 @@ fn available() -> bool {
     ok
 }
 
+fn cli() -> Logo {
+    Logo::new(env!("CARGO_BIN_EXE_logo"))
+}
+
 fn logo(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut command = Logo::new(env!("CARGO_BIN_EXE_logo")).command();
+    let mut command = cli().command();
     command.args(args).envs(env.iter().copied());
     command.output().unwrap()
 }
 
 fn succeed(args: &[&str]) -> String {
-    Logo::new(env!("CARGO_BIN_EXE_logo")).succeed(args)
+    cli().succeed(args)
 }
 
 fn failure(args: &[&str], env: &[(&str, &str)]) -> String {
@@ -194,7 +198,7 @@ fn video_every_leaves_the_runs_numbers_bit_identical() {
     let train = |name: &str, extra: &[&str]| {
         let out = dir.join(name);
         let more = [&["--no-tensorboard"], extra].concat();
-        let printed = Logo::new(env!("CARGO_BIN_EXE_logo")).train(&config, &out, &more);
+        let printed = cli().train(&config, &out, &more);
         (out, printed)
     };
     let (plain, _) = train("plain", &[]);
