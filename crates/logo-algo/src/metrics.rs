@@ -81,6 +81,25 @@ fn nan() -> f64 {
 }
 
 impl IterationMetrics {
+    /// The numeric columns of `metrics.csv`, in file order: those a summary, figure or
+    /// comparison can read (the stop reasons are words).
+    pub fn numeric_columns() -> Vec<String> {
+        let mut writer = csv::Writer::from_writer(Vec::new());
+        writer
+            .serialize(Self::default())
+            .expect("a default row serialises");
+        let text = String::from_utf8(writer.into_inner().expect("an in-memory writer"))
+            .expect("csv writes UTF-8");
+        let mut lines = text.lines();
+        let (header, row) = (lines.next().unwrap_or(""), lines.next().unwrap_or(""));
+        header
+            .split(',')
+            .zip(row.split(','))
+            .filter(|(_, value)| value.parse::<f64>().is_ok())
+            .map(|(name, _)| name.to_string())
+            .collect()
+    }
+
     /// Records the improvement step.
     pub fn improvement(&mut self, stats: &UpdateStats) {
         self.kl = stats.kl;
@@ -107,5 +126,29 @@ impl IterationMetrics {
                 self.guidance_beta = f64::NAN;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::IterationMetrics;
+
+    #[test]
+    fn the_numeric_columns_are_the_header_less_the_stop_reasons() {
+        let columns = IterationMetrics::numeric_columns();
+        for name in [
+            "iteration",
+            "samples",
+            "train_sparse_return",
+            "eval_dense_return",
+            "eval_success",
+            "t_evaluation",
+        ] {
+            assert!(columns.iter().any(|c| c == name), "{name}: {columns:?}");
+        }
+        for name in ["update_stop", "guidance_stop"] {
+            assert!(!columns.iter().any(|c| c == name), "{name}: {columns:?}");
+        }
+        assert_eq!(columns.first().map(String::as_str), Some("iteration"));
     }
 }

@@ -3,21 +3,22 @@
 //! the one LOGO config (`logo_algo::algorithms::configure`: same task, settings and
 //! demonstrations), the runs go through `logo sweep` (finished runs skipped, interrupted
 //! ones resumed, local jobs or a Slurm array), and the folder gets `report.md` (IQM with
-//! 95% intervals per method, P(LOGO > method)) and `figure.png` (a curve per method with
-//! its 95% band).
+//! 95% intervals per method, P(LOGO > method), the final policies' own evaluation) and
+//! `figure.png` (a curve per method with its 95% band), both of the dense evaluation or of
+//! the metrics.csv column `--metric` names.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, ensure};
 use clap::{Args, Command, FromArgMatches};
-use logo_algo::TrainConfig;
 use logo_algo::algorithms::{COMPARABLE, configure};
+use logo_algo::{IterationMetrics, TrainConfig};
 use logo_engine::EngineArgs;
 use logo_stats::Bootstrap;
 
 use crate::plot::PlotArgs;
 use crate::runs::{EVAL_RETURN, Metric, discover, parse_max_samples};
-use crate::summary::{AtRule, compare_table, intervals_table, table};
+use crate::summary::{AtRule, compare_table, eval_json_table, intervals_table, table};
 use crate::sweep::{self, SweepArgs};
 
 #[derive(Args)]
@@ -65,6 +66,11 @@ pub struct CompareArgs {
     /// Resamples of the bootstrap behind every interval.
     #[arg(long, default_value_t = 20_000)]
     reps: usize,
+    /// The metrics.csv column the report and figure read: the mean action's dense
+    /// evaluation by default (the LOGO paper's Figure 1), or e.g. train_sparse_return
+    /// (the sampled episodes' sparse return: the sparse task itself) or eval_success.
+    #[arg(long, default_value = EVAL_RETURN)]
+    metric: String,
     #[command(flatten)]
     engine: EngineArgs,
 }
@@ -89,6 +95,14 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     }
     ensure!(args.reps >= 1, "--reps must be at least 1");
     ensure!(args.window != Some(0), "--window must be at least 1");
+    // Checked before any training: a report that cannot be read would waste the runs.
+    let columns = IterationMetrics::numeric_columns();
+    ensure!(
+        columns.contains(&args.metric),
+        "--metric {:?}: not a numeric column of metrics.csv; expected one of {}",
+        args.metric,
+        columns.join(", ")
+    );
     let mut base = TrainConfig::load(&args.config)?;
     if let Some(samples) = args.samples {
         ensure!(samples >= 1.0, "--samples must be at least 1");
@@ -151,6 +165,8 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         figure.display().to_string(),
         "--stat".into(),
         "iqm".into(),
+        "--metric".into(),
+        args.metric.clone(),
     ]);
     crate::plot::run(&as_subcommand::<PlotArgs>("plot", &plot_args)?)?;
     println!("compare: {} and {}", path.display(), figure.display());
@@ -182,18 +198,32 @@ fn write_configs(args: &CompareArgs, base: &TrainConfig, out: &Path) -> Result<V
 /// against each other method.
 fn report(args: &CompareArgs, run_dirs: &[PathBuf], budget: f64) -> Result<String> {
     let metric = Metric {
-        column: EVAL_RETURN.into(),
+        column: args.metric.clone(),
         log10: false,
     };
     let runs = discover(run_dirs, &metric)?;
     let at = [budget];
     let rule = args.window.map_or(AtRule::Interpolate, AtRule::Window);
     let bootstrap = Bootstrap::with_reps(args.reps);
+    let (metric_flag, values) = if args.metric == EVAL_RETURN {
+        (
+            String::new(),
+            "the dense evaluation's returns (metrics.csv's `eval_dense_return`)".to_string(),
+        )
+    } else {
+        (
+            format!(" --metric {}", args.metric),
+            format!(
+                "metrics.csv's `{}`, but for the end-of-run table",
+                args.metric
+            ),
+        )
+    };
     let mut text = format!(
-        "# {}: {}\n\nMade by `logo compare --config {} --algorithms {} --seeds {}` with a \
-         budget of {budget:.0} samples per run. Each method is the config made into it by \
-         its own keys alone (the configs are in `configs/`; `docs/algorithms.md`). Returns \
-         are the dense evaluation's (metrics.csv's `eval_dense_return`).\n\n",
+        "# {}: {}\n\nMade by `logo compare --config {} --algorithms {} --seeds {}{metric_flag}` \
+         with a budget of {budget:.0} samples per run. Each method is the config made into \
+         it by its own keys alone (the configs are in `configs/`; `docs/algorithms.md`). \
+         The values are {values}.\n\n",
         args.config.display(),
         args.algorithms.join(", "),
         args.config.display(),
@@ -203,6 +233,10 @@ fn report(args: &CompareArgs, run_dirs: &[PathBuf], budget: f64) -> Result<Strin
     text.push_str(&table(&runs, &at, rule, args.target)?);
     text.push('\n');
     text.push_str(&intervals_table(&runs, &at, rule, &bootstrap));
+    if let Some(final_policies) = eval_json_table(&runs, &bootstrap)? {
+        text.push('\n');
+        text.push_str(&final_policies);
+    }
     if args.algorithms.iter().any(|a| a == "logo") {
         for other in args.algorithms.iter().filter(|a| *a != "logo") {
             text.push('\n');

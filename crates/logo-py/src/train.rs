@@ -336,3 +336,10 @@ pub fn configure(
     made.to_toml()
         .map_err(|e| crate::errors::LogoError::new_err(e.to_string()))
 }
+
+/// The numeric columns of a run's `metrics.csv`, in file order (what `compare`'s
+/// `metric` may name).
+#[pyfunction]
+pub fn metric_columns() -> Vec<String> {
+    logo_algo::IterationMetrics::numeric_columns()
+}

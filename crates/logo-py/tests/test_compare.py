@@ -30,6 +30,14 @@ def last_return(run_dir):
     return float(rows[-1]["eval_dense_return"]), float(rows[-1]["samples"])
 
 
+def at_budget(run_dir, key, budget):
+    """The run's `key` at `budget` samples, linear between rows."""
+    with open(run_dir / "metrics.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    x = [float(r["samples"]) for r in rows]
+    return float(np.interp(budget, x, [float(r[key]) for r in rows]))
+
+
 def column(table, key):
     return list(table[key])
 
@@ -56,6 +64,14 @@ def test_compare_trains_each_method_once_and_answers(tmp_path):
                             progress=False)
     assert (out / "logo" / "seed0" / "metrics.csv").stat().st_mtime_ns == stamp
     assert column(again, "iqm") == column(table, "iqm")
+    # The same runs read by the sparse task's own return.
+    sparse = logo_rl.compare(TINY, algorithms=("logo", "trpo"), seeds=2, out=out, reps=200,
+                             metric="train_sparse_return", progress=False)
+    for method, returns in zip(column(sparse, "method"), column(sparse, "returns")):
+        for seed, value in enumerate(returns):
+            run = out / method / f"seed{seed}"
+            assert value == pytest.approx(at_budget(run, "train_sparse_return", 600))
+            assert value != pytest.approx(at_budget(run, "eval_dense_return", 600))
 
 
 def test_compare_misuse_is_a_python_error(tmp_path):
@@ -63,6 +79,10 @@ def test_compare_misuse_is_a_python_error(tmp_path):
         logo_rl.compare(TINY, algorithms=("logo", "sac"), out=tmp_path)
     with pytest.raises(ValueError, match="seeds"):
         logo_rl.compare(TINY, seeds=0, out=tmp_path)
+    # A column metrics.csv does not have: refused before any run is trained.
+    with pytest.raises(ValueError, match="metric='sparse_return'.*train_sparse_return"):
+        logo_rl.compare(TINY, metric="sparse_return", out=tmp_path / "none")
+    assert not (tmp_path / "none").exists()
     trpo = {k: v for k, v in TINY.items() if k != "guidance"}
     with pytest.raises(ValueError, match="LOGO config"):
         logo_rl.compare(trpo, algorithms=("trpo",), out=tmp_path)

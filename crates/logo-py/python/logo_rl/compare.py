@@ -28,6 +28,7 @@ def compare(
     samples: float | None = None,
     out: str | os.PathLike | None = None,
     reps: int = 20_000,
+    metric: str = "eval_dense_return",
     engine: str | None = None,
     backend: str | None = None,
     dtype: str | None = None,
@@ -45,6 +46,9 @@ def compare(
     ``out/<method>/seed<N>`` (default ``runs/compare-<config name>``); a finished run is
     read, not trained again, and an interrupted one is resumed. ``samples``: the budget
     per run (iterations = ⌈samples / samples_per_iter⌉), default the config's.
+    ``metric``: the metrics.csv column read at the budget, the mean action's dense
+    evaluation by default (the LOGO paper's Figure 1), or e.g. ``"train_sparse_return"``
+    (the sampled episodes' sparse return: the sparse task itself) or ``"eval_success"``.
 
     Returns a pandas DataFrame where pandas is installed, else a dict of columns.
     """
@@ -57,6 +61,10 @@ def compare(
         raise ValueError(f"seeds={seeds!r}: expected a count or a list of seeds ≥ 0")
     if not (isinstance(reps, int) and reps >= 1):
         raise ValueError(f"reps={reps!r}: expected an integer ≥ 1")
+    columns = _logo_rl.metric_columns()
+    if metric not in columns:
+        raise ValueError(f"metric={metric!r}: not a numeric column of metrics.csv; "
+                         f"expected one of {', '.join(columns)}")
     path, table, name = _config_arg(config)
     out = Path(out) if out is not None else Path("runs") / f"compare-{name}"
     (out / "configs").mkdir(parents=True, exist_ok=True)
@@ -78,7 +86,7 @@ def compare(
         for seed in seed_list:
             _train_once(made, out / method / f"seed{seed}", seed, iterations,
                         dict(engine=engine, backend=backend, dtype=dtype, progress=progress))
-    return _answer(out, algorithms, seed_list, budget, reps)
+    return _answer(out, algorithms, seed_list, budget, reps, metric)
 
 
 def _config_arg(config):
@@ -115,20 +123,20 @@ def _metrics(run_dir: Path) -> list[dict]:
         return list(csv.DictReader(f))
 
 
-def _returns_at(run_dir: Path, budget: float) -> float:
-    """The dense evaluation's return at `budget` samples, linear between evaluations."""
+def _returns_at(run_dir: Path, budget: float, metric: str) -> float:
+    """The run's `metric` at `budget` samples, linear between the rows that have it."""
     rows = _metrics(run_dir)
     x = np.array([float(r["samples"]) for r in rows])
     if not rows or x[-1] < budget:
         raise ValueError(f"{run_dir}: the run stops before {budget:.0f} samples")
-    y = np.array([float(r["eval_dense_return"]) for r in rows])
+    y = np.array([float(r[metric]) for r in rows])
     keep = ~np.isnan(y)
     return float(np.interp(budget, x[keep], y[keep]))
 
 
-def _answer(out: Path, algorithms, seeds, budget, reps):
+def _answer(out: Path, algorithms, seeds, budget, reps, metric):
     rng = np.random.default_rng(0)
-    returns = {m: np.array([_returns_at(out / m / f"seed{s}", budget) for s in seeds])
+    returns = {m: np.array([_returns_at(out / m / f"seed{s}", budget, metric) for s in seeds])
                for m in algorithms}
     rows = []
     for m in algorithms:
