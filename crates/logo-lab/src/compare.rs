@@ -84,7 +84,8 @@ fn as_subcommand<T: Args + FromArgMatches>(name: &'static str, args: &[String]) 
     Ok(T::from_arg_matches(&matches)?)
 }
 
-pub fn run(args: &CompareArgs) -> Result<()> {
+/// The flags' own errors, before anything is loaded or trained.
+fn check_flags(args: &CompareArgs) -> Result<()> {
     ensure!(!args.algorithms.is_empty(), "--algorithms names none");
     for name in &args.algorithms {
         ensure!(
@@ -103,6 +104,11 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         args.metric,
         columns.join(", ")
     );
+    Ok(())
+}
+
+pub fn run(args: &CompareArgs) -> Result<()> {
+    check_flags(args)?;
     let mut base = TrainConfig::load(&args.config)?;
     if let Some(samples) = args.samples {
         ensure!(samples >= 1.0, "--samples must be at least 1");
