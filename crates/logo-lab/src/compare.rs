@@ -96,7 +96,6 @@ fn check_flags(args: &CompareArgs) -> Result<()> {
     }
     ensure!(args.reps >= 1, "--reps must be at least 1");
     ensure!(args.window != Some(0), "--window must be at least 1");
-    // Checked before any training: a report that cannot be read would waste the runs.
     let columns = IterationMetrics::numeric_columns();
     ensure!(
         columns.contains(&args.metric),

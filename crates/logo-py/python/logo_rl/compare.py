@@ -123,7 +123,7 @@ def _metrics(run_dir: Path) -> list[dict]:
         return list(csv.DictReader(f))
 
 
-def _returns_at(run_dir: Path, budget: float, metric: str) -> float:
+def _value_at(run_dir: Path, budget: float, metric: str) -> float:
     """The run's `metric` at `budget` samples, linear between the rows that have it."""
     rows = _metrics(run_dir)
     x = np.array([float(r["samples"]) for r in rows])
@@ -136,7 +136,7 @@ def _returns_at(run_dir: Path, budget: float, metric: str) -> float:
 
 def _answer(out: Path, algorithms, seeds, budget, reps, metric):
     rng = np.random.default_rng(0)
-    returns = {m: np.array([_returns_at(out / m / f"seed{s}", budget, metric) for s in seeds])
+    returns = {m: np.array([_value_at(out / m / f"seed{s}", budget, metric) for s in seeds])
                for m in algorithms}
     rows = []
     for m in algorithms:
