@@ -97,6 +97,15 @@ holds seed*/ runs, and a .csv path is one run):
                                   n"; "seeds at ≥ the demonstrations'" the seeds whose rate
                                   k/n ≥ K/N (without a goal: whose return ≥ R); "P(LOGO >
                                   method)" as in arms; "—" for LOGO's own row
+  target   rows=A>B@DEMOS;...     the suite's target per task, a row each: A a LOGO group, B
+                                  TRPO's, DEMOS the demonstrations' K/N (a bare number: their
+                                  return, on a task without a goal); columns task (A's task
+                                  folder in backticks) | LOGO (A's suite name) | seeds at ≥
+                                  the demonstrations (as in suite) | P(LOGO > TRPO) [95% CI]
+                                  (as in suite) | target: "met" where at least 4 seeds meet
+                                  the demonstrations and P's printed lower end is above 0.5,
+                                  else "not met: " the demonstrations, TRPO or both;
+                                  further columns (the page's reading) named in quoted=
   goal     rows=GROUP;...         a task that ends only at its goal: per group its seeds
                                   (exact), then per column "final: ... per seed" (or
                                   "best: ..."), each seed's count of eval.json episodes
@@ -472,6 +481,54 @@ def check_suite(opts, header, body, compare, wrong):
     return intervals
 
 
+def check_target(opts, header, body, compare, wrong):
+    """The `target` kind (see the module's docstring); returns the cells it checked itself."""
+    checked = 0
+
+    def exact(r, c, text):
+        nonlocal checked
+        checked += 1
+        if body[r][c] != text:
+            wrong.append((r + 1, header[c], body[r][c], text))
+
+    rows = opts["rows"].split(";")
+    if len(rows) != len(body):
+        raise SystemExit(f"target: {len(rows)} rows named for {len(body)} in the table")
+    expected = ["task", "LOGO", "seeds at ≥ the demonstrations", "P(LOGO > TRPO) [95% CI]", "target"]
+    if header[:5] != expected:
+        raise SystemExit(f"target: header {header[:5]} is not {expected}")
+    quoted = {int(c) for c in opts.get("quoted", "").split(",") if c}
+    for c in range(len(expected), len(header)):
+        if c + 1 not in quoted:
+            raise SystemExit(f"column {c + 1} `{header[c]}`: unknown; name it in quoted=")
+    for r, spec in enumerate(rows):
+        pair, _, demos = spec.partition("@")
+        logo_group, _, trpo_group = pair.partition(">")
+        logo, trpo = suite_finals(logo_group), suite_finals(trpo_group)
+        if not logo or not trpo:
+            raise SystemExit(f"target: no finished seed under {logo_group if not logo else trpo_group}")
+        exact(r, 0, f"`{Path(logo_group).parent.name}`")
+        exact(r, 1, SUITE_ARMS.get(Path(logo_group).name, Path(logo_group).name))
+        if "/" in demos:
+            k, n = (int(v) for v in demos.split("/"))
+            met = sum(f["reached"][0] / f["reached"][1] >= k / n for f in logo)
+        else:
+            met = sum(f["return"] >= float(demos) for f in logo)
+        compare(r, 2, f"{met} of {len(logo)}")
+        x, y = [f["return"] for f in logo], [f["return"] for f in trpo]
+        point = probability_of_improvement(x, y)
+        checked += 1
+        if not band_agrees(body[r][3], point, bootstrap_two_draws(x, y, probability_of_improvement), 0.0):
+            wrong.append((r + 1, header[3], body[r][3], f"{point:.2f}"))
+            continue
+        # The verdict reads the printed lower end, just checked against the bootstrap.
+        beats_trpo = numbers(body[r][3])[1][0] > 0.5
+        meets_demos = met >= 4
+        missed = [name for name, ok in (("the demonstrations", meets_demos), ("TRPO", beats_trpo)) if not ok]
+        exact(r, 4, "met" if not missed else "not met: " + ("both" if len(missed) == 2 else missed[0]))
+    return checked
+
+
 # ---------------------------------------------------------------- comparing
 
 def numbers(text):
@@ -833,6 +890,9 @@ def check_table(kind, opts, header, body):
     elif kind == "suite":
         intervals = check_suite(opts, header, body, compare, wrong)
         checked += intervals  # after the call: `compare` counts its cells into `checked`
+    elif kind == "target":
+        intervals = check_target(opts, header, body, compare, wrong)
+        checked += intervals  # after the call, as for `suite`
     elif kind == "goal":
         groups = opts["rows"].split(";")
         if len(groups) != len(body):

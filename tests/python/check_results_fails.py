@@ -125,6 +125,15 @@ SUITE = """<!-- check suite rows=suite/reacher-goal/logo-decayed;suite/reacher-g
 | BC | 5 | 1.9 [0.9, 2.4] | 6, 4, 4, 8, 9 of 20 | 0 of 5 | 1.00 [1.00, 1.00] | 39.9 [39.0, 40.8] |
 """
 
+# The suite's target per task: seeds at the demonstrations, P(LOGO > TRPO), the verdict.
+TARGET = """<!-- check target rows=suite/reacher-goal/logo>suite/reacher-goal/trpo@20/20;suite/maze/logo-decayed>suite/maze/trpo@20/20;suite/hopper-delayed/logo>suite/hopper-delayed/trpo@1381.5 quoted=6 -->
+| task | LOGO | seeds at ≥ the demonstrations | P(LOGO > TRPO) [95% CI] | target | why |
+| --- | --- | --- | --- | --- | --- |
+| `reacher-goal` | LOGO (new-task preset) | 4 of 5 | 0.16 [0.00, 0.48] | not met: TRPO | a reading |
+| `maze` | LOGO, δ_k decaying | 5 of 5 | 1.00 [1.00, 1.00] | met | — |
+| `hopper-delayed` | LOGO (new-task preset) | 1 of 5 | 1.00 [1.00, 1.00] | not met: the demonstrations | a reading |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -138,7 +147,7 @@ def check(text):
 def main():
     failures = []
     goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS,
-             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS, SUITE)
+             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS, SUITE, TARGET)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -203,6 +212,13 @@ def main():
         "a suite task's target other than its comment's": SUITE.replace("demonstrations' 20/20 |", "demonstrations' 19/20 |"),
         "a suite task's rows swapped": SUITE.replace("| TRPO | 5 |", "| BC | 5 |", 1),
         "a suite task's P on LOGO's own row": SUITE.replace("| 5 of 5 | — | — |", "| 5 of 5 | 0.50 [0.00, 1.00] | — |"),
+        "a target met where P's interval holds 0.5": TARGET.replace("| not met: TRPO |", "| met |"),
+        "a target met short of the demonstrations": TARGET.replace("| not met: the demonstrations |", "| met |"),
+        "a target's wrong seed count": TARGET.replace("| 4 of 5 |", "| 5 of 5 |"),
+        "a target's P against another method": TARGET.replace("reacher-goal/trpo@", "reacher-goal/bc@"),
+        "a target's wrong arm": TARGET.replace("| LOGO, δ_k decaying |", "| LOGO (new-task preset) |"),
+        "a target read at another task's demonstrations": TARGET.replace("trpo@1381.5", "trpo@999"),
+        "a target with an unnamed column": TARGET.replace(" quoted=6", ""),
     }
     for name, text in cases.items():
         code, out = check(text)
