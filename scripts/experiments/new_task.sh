@@ -16,7 +16,7 @@
 #           (Reacher and Pusher)
 #   TARGET  the behaviour policy's stopping return (dense)
 # Settings, as environment variables (defaults in brackets):
-#   OUT [runs/new-task/<task>]  LOGO [./target/release/logo]
+#   OUT [runs/new-task/<task>-<rule>, lower-cased]  LOGO [./target/release/logo]
 #   BEHAVIOUR_ITERATIONS [500]  BEHAVIOUR_SAMPLES [5000]  EPISODES [20]
 #   BEHAVIOUR_LOG_STD [the config default]: the behaviour policy's initial log sigma
 #   ITERATIONS [100]  SAMPLES [20000]  SEEDS [0..3]  JOBS [1]

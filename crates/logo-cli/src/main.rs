@@ -136,3 +136,62 @@ fn main() -> ExitCode {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Cli;
+    use clap::{Command, CommandFactory};
+
+    /// docs/cli.md says it lists every command and flag that `--help` does: every visible
+    /// command has a row starting with its name, and each of its flags stands in one of
+    /// its rows.
+    #[test]
+    fn cli_md_lists_every_command_and_flag() {
+        let page =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/cli.md"))
+                .expect("docs/cli.md");
+        let rows: Vec<&str> = page.lines().filter(|l| l.starts_with("| `logo ")).collect();
+        let mut missing = Vec::new();
+        undocumented(&Cli::command(), "logo", &rows, &mut missing);
+        assert!(missing.is_empty(), "docs/cli.md lacks {missing:?}");
+    }
+
+    fn undocumented(command: &Command, path: &str, rows: &[&str], missing: &mut Vec<String>) {
+        for sub in command.get_subcommands().filter(|c| !c.is_hide_set()) {
+            let name = format!("{path} {}", sub.get_name());
+            if sub.has_subcommands() {
+                undocumented(sub, &name, rows, missing);
+                continue;
+            }
+            let head = format!("| `{name}");
+            let own: Vec<&str> = rows
+                .iter()
+                .copied()
+                .filter(|r| {
+                    r.strip_prefix(&head)
+                        .is_some_and(|rest| rest.starts_with([' ', '`']))
+                })
+                .collect();
+            if own.is_empty() {
+                missing.push(name);
+                continue;
+            }
+            let flags = sub
+                .get_arguments()
+                .filter(|a| !a.is_hide_set())
+                .filter_map(|a| a.get_long());
+            for flag in flags.map(|long| format!("--{long}")) {
+                if !own.iter().any(|row| names_flag(row, &flag)) {
+                    missing.push(format!("{name} {flag}"));
+                }
+            }
+        }
+    }
+
+    /// `--seed` in a row, not only as the start of `--seeds`.
+    fn names_flag(row: &str, flag: &str) -> bool {
+        row.match_indices(flag).any(|(at, _)| {
+            !row[at + flag.len()..].starts_with(|c: char| c.is_ascii_alphanumeric() || c == '-')
+        })
+    }
+}
