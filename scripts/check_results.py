@@ -105,7 +105,9 @@ holds seed*/ runs, and a .csv path is one run):
                                   (as in suite) | target: "met" where at least 4 seeds meet
                                   the demonstrations and P's printed lower end is above 0.5,
                                   else "not met: " the demonstrations, TRPO or both;
-                                  further columns (the page's reading) named in quoted=
+                                  further columns (the page's reading) named in quoted=;
+           [policy=best]          every seed's best policy (eval.json's "best") in place
+                                  of its final one, for LOGO and TRPO alike
   goal     rows=GROUP;...         a task that ends only at its goal: per group its seeds
                                   (exact), then per column "final: ... per seed" (or
                                   "best: ..."), each seed's count of eval.json episodes
@@ -401,14 +403,15 @@ def column_value(header, runs, opts, metric="eval_dense_return"):
     return None
 
 
-def suite_finals(group):
-    """Each finished seed's final policy (mean action) of a suite group, in seed order."""
+def suite_finals(group, policy="final"):
+    """Each finished seed's final policy (mean action) of a suite group, in seed order, or
+    the policy its run kept as best (`policy="best"`), as eval.json scores it."""
     base = ROOT / "docs/results" / group
     finals = []
     for folder in sorted(base.glob("seed*"), key=lambda p: int(p.name[4:])):
         file = next((folder / n for n in ("eval.json", "policy.eval.json") if (folder / n).is_file()), None)
         if file is not None:
-            finals.append(json.loads(file.read_text())["policies"]["final"]["mean_action"]["summary"])
+            finals.append(json.loads(file.read_text())["policies"][policy]["mean_action"]["summary"])
     return finals
 
 
@@ -501,10 +504,13 @@ def check_target(opts, header, body, compare, wrong):
     for c in range(len(expected), len(header)):
         if c + 1 not in quoted:
             raise SystemExit(f"column {c + 1} `{header[c]}`: unknown; name it in quoted=")
+    policy = opts.get("policy", "final")
+    if policy not in ("final", "best"):
+        raise SystemExit(f"target: policy={policy}: expected final or best")
     for r, spec in enumerate(rows):
         pair, _, demos = spec.partition("@")
         logo_group, _, trpo_group = pair.partition(">")
-        logo, trpo = suite_finals(logo_group), suite_finals(trpo_group)
+        logo, trpo = suite_finals(logo_group, policy), suite_finals(trpo_group, policy)
         if not logo or not trpo:
             raise SystemExit(f"target: no finished seed under {logo_group if not logo else trpo_group}")
         exact(r, 0, f"`{Path(logo_group).parent.name}`")

@@ -219,6 +219,7 @@ def main():
         "a target's wrong arm": TARGET.replace("| LOGO, δ_k decaying |", "| LOGO (new-task preset) |"),
         "a target read at another task's demonstrations": TARGET.replace("trpo@1381.5", "trpo@999"),
         "a target with an unnamed column": TARGET.replace(" quoted=6", ""),
+        "a target read from the final policies, the best named": TARGET.replace("check target", "check target policy=best"),
     }
     for name, text in cases.items():
         code, out = check(text)
