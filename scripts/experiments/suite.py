@@ -589,20 +589,26 @@ def bc_evaluation(folder: Path):
 
 def task_table(out: Path, name: str, keep: Path | None) -> str:
     """One task's table and its check comment, whose groups name the folders --keep
-    copies to (relative to docs/results/; docs/results/suite without --keep)."""
+    copies to (relative to docs/results/; docs/results/suite without --keep). An arm with
+    no runs under OUT is read where --keep already holds it (runs kept, then untracked,
+    by an earlier report), so a report of new arms keeps the old ones in the table."""
     runs = out / name / "runs"
+    kept_runs = keep / name if keep is not None else None
     seeds: dict[str, list[tuple[int, dict]]] = {}
-    arms = [a for a in REPORTED if a in ARMS or (runs / a).is_dir()]
+    source = {a: runs / a if (runs / a).is_dir() or kept_runs is None else kept_runs / a
+              for a in REPORTED}
+    arms = [a for a in REPORTED if a in ARMS or source[a].is_dir()]
     for arm in arms:
         found = []
-        for folder in sorted(runs.glob(f"{arm}/seed*"), key=lambda p: int(p.name[4:])):
+        for folder in sorted(source[arm].glob("seed*"), key=lambda p: int(p.name[4:])):
             if arm == "bc":
                 bc_evaluation(folder)
             policy = final_policy(folder)
             if policy is not None:
                 found.append((int(folder.name[4:]), policy))
-                if keep is not None:
-                    keep_seed(folder, keep / name / arm / folder.name)
+                destination = keep / name / arm / folder.name if keep is not None else None
+                if destination is not None and destination.resolve() != folder.resolve():
+                    keep_seed(folder, destination)
         seeds[arm] = found
     demo = DEMONSTRATED[name]
     goal = demo["reached"] is not None
