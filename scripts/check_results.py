@@ -97,6 +97,17 @@ holds seed*/ runs, and a .csv path is one run):
                                   n"; "seeds at ≥ the demonstrations'" the seeds whose rate
                                   k/n ≥ K/N (without a goal: whose return ≥ R); "P(LOGO >
                                   method)" as in arms; "—" for LOGO's own row
+  matrix   rows=A@BUDGET:W;...    a grid of verdicts, a row per group A (its first cell a free
+           rRcC=B ...             label) and a column per method (the header free): each cell
+           [level=N]              rRcC (1-based body row and column) "VERDICT DIFF [LO, HI]"
+                                  for A against B, each seed's mean of its W evaluations nearest
+                                  BUDGET, runs read up to BUDGET (whole, as `logo summary`
+                                  without --max-samples, where the row ends in +): the IQM
+                                  difference A − B and
+                                  its interval as in versus, the verdict by versus' rule from
+                                  the printed interval (level where it holds 0 and is narrower
+                                  than N, default 2000; ", suggests" under 5 seeds a side);
+                                  every other cell after the first column "—"
   target   rows=A>B@DEMOS;...     the suite's target per task, a row each: A a LOGO group, B
                                   TRPO's, DEMOS the demonstrations' K/N (a bare number: their
                                   return, on a task without a goal); columns task (A's task
@@ -535,6 +546,52 @@ def check_target(opts, header, body, compare, wrong):
     return checked
 
 
+def check_matrix(opts, header, body, wrong):
+    """The `matrix` kind (see the module's docstring); returns the cells it checked."""
+    checked = 0
+    rows = opts["rows"].split(";")
+    if len(rows) != len(body):
+        raise SystemExit(f"matrix: {len(rows)} rows named for {len(body)} in the table")
+    level = float(opts.get("level", 2000))
+    named = {}
+    for key, other in opts.items():
+        m = re.fullmatch(r"r(\d+)c(\d+)", key)
+        if m:
+            named[(int(m.group(1)) - 1, int(m.group(2)) - 1)] = other
+    for r, row in enumerate(body):
+        for c in range(1, len(row)):
+            if (r, c) not in named and row[c] != "—":
+                wrong.append((r + 1, header[c], row[c], "— (no cell named rXcY)"))
+    for (r, c), other in sorted(named.items()):
+        m = re.fullmatch(r"([^@]+)@([\d.]+[kM]?):(\d+)(\+?)", rows[r])
+        if not m:
+            raise SystemExit(f"matrix: row {rows[r]!r} is not GROUP@BUDGET:W[+]")
+        x, window = parse_samples(m.group(2)), int(m.group(3))
+        limit = math.inf if m.group(4) else x
+        xs, ys = (window_values(g, x, window, limit) for g in (m.group(1), other))
+        difference = lambda u, v: iqm(u) - iqm(v)  # noqa: E731
+        point, (lo, hi) = difference(xs, ys), bootstrap_two(xs, ys, difference)
+        cell = body[r][c]
+        split = re.search(r"−?-?\d", cell)
+        if split is None:
+            raise SystemExit(f"matrix: row {r + 1}, column {c + 1}: no numbers in {cell!r}")
+        verdict_text, numbers_text = cell[:split.start()].strip(), cell[split.start():]
+        checked += 1
+        if not interval_agrees(numbers_text, point, (lo, hi), 0.05 * (max(xs + ys) - min(xs + ys))):
+            wrong.append((r + 1, header[c], cell, f"{point:.1f} [{lo:.1f}, {hi:.1f}]"))
+            continue
+        ends = numbers(numbers_text)
+        lo, hi = ends[1][0], ends[2][0]
+        verdict = ("ahead" if lo > 0 else "behind" if hi < 0
+                   else "level" if hi - lo < level else "unresolved")
+        if min(len(xs), len(ys)) < 5:
+            verdict += ", suggests"
+        checked += 1
+        if verdict_text != verdict:
+            wrong.append((r + 1, header[c], cell, verdict))
+    return checked
+
+
 # ---------------------------------------------------------------- comparing
 
 def numbers(text):
@@ -896,6 +953,8 @@ def check_table(kind, opts, header, body):
     elif kind == "suite":
         intervals = check_suite(opts, header, body, compare, wrong)
         checked += intervals  # after the call: `compare` counts its cells into `checked`
+    elif kind == "matrix":
+        checked += check_matrix(opts, header, body, wrong)
     elif kind == "target":
         intervals = check_target(opts, header, body, compare, wrong)
         checked += intervals  # after the call, as for `suite`

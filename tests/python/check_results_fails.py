@@ -134,6 +134,14 @@ TARGET = """<!-- check target rows=suite/reacher-goal/logo>suite/reacher-goal/tr
 | `hopper-delayed` | LOGO (new-task preset) | 1 of 5 | 1.00 [1.00, 1.00] | not met: the demonstrations | a reading |
 """
 
+# A grid of verdicts: IQM differences at a budget, the verdict from the interval.
+MATRIX = """<!-- check matrix rows=fig1-idp/logo@200k:5+;new-task/ant/runs/logo@2M:10 r1c2=fig1-idp/gail r1c3=fig1-idp/trpo r2c2=fig1-ant/gail -->
+| LOGO against | GAIL | TRPO |
+| --- | --- | --- |
+| sparse IDP | unresolved −1276 [−4336, 484] | ahead 7699 [4207, 9022] |
+| sparse Ant | behind, suggests −343 [−574, −112] | — |
+"""
+
 
 def check(text):
     with tempfile.TemporaryDirectory() as tmp:
@@ -147,7 +155,7 @@ def check(text):
 def main():
     failures = []
     goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS,
-             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS, SUITE, TARGET)
+             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS, SUITE, TARGET, MATRIX)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -220,6 +228,12 @@ def main():
         "a target read at another task's demonstrations": TARGET.replace("trpo@1381.5", "trpo@999"),
         "a target with an unnamed column": TARGET.replace(" quoted=6", ""),
         "a target read from the final policies, the best named": TARGET.replace("check target", "check target policy=best"),
+        "a grid's verdict the interval does not give": MATRIX.replace("unresolved −1276", "level −1276"),
+        "a grid's cell without its few seeds said": MATRIX.replace("behind, suggests", "behind"),
+        "a grid's wrong difference": MATRIX.replace("7699 [", "7600 ["),
+        "a grid read up to the budget, its cells not": MATRIX.replace("200k:5+;", "200k:5;"),
+        "a grid's value where no cell is named": MATRIX.replace("| — |", "| ahead 28 [−124, 246] |"),
+        "a grid's cells swapped": MATRIX.replace("r1c2=fig1-idp/gail r1c3=fig1-idp/trpo", "r1c2=fig1-idp/trpo r1c3=fig1-idp/gail"),
     }
     for name, text in cases.items():
         code, out = check(text)
