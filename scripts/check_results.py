@@ -3,18 +3,20 @@
 
 Each table is preceded by a comment saying where its numbers come from, e.g.
 
-    <!-- check summary rows=four-envs/hopper/logo-hopper;four-envs/hopper/trpo-hopper at=2e6 -->
+    <!-- check summary rows=four-envs/hopper/logo-hopper;four-envs/hopper/trpo-hopper -->
 
 and this script recomputes each cell it knows how to and compares the numbers in it
 with the document's, to the precision the document prints (a cell "1611 ± 920" holds
 for a recomputed 1610.6 ± 919.8). Cells quoting a paper or another program's output
 are not data of docs/results/; their columns are named with `quoted=` and listed.
-A table without a check comment is an error: a table can no longer disagree with its data.
+A table without a check comment is an error: a table can no longer disagree with its data;
+so is an option its kind does not read.
 
 Kinds (paths relative to docs/results/; a run folder holds metrics.csv, a group folder
 holds seed*/ runs, and a .csv path is one run):
   summary  rows=GROUP;GROUP;...   one row per group, columns by their header
-           [iterations=N: each run's first N] [sustained=range] [quoted=3,7];
+           [iterations=N: each run's first N] [sustained=range] [quoted=3,7]
+           [first=N: the iterations a "guidance-step KL" column averages, 25];
            a GROUP of PATH.csv@COLUMN is an outside curve (`logo summary --external`)
            read from that column
   iterations runs=NAME:PATH;...   rows are iteration numbers (1-based: the n-th row of
@@ -108,17 +110,18 @@ holds seed*/ runs, and a .csv path is one run):
                                   the printed interval (level where it holds 0 and is narrower
                                   than N, default 2000; ", suggests" under 5 seeds a side);
                                   every other cell after the first column "—"
-  target   rows=A>B@DEMOS;...     the suite's target per task, a row each: A a LOGO group, B
-                                  TRPO's, DEMOS the demonstrations' K/N (a bare number: their
-                                  return, on a task without a goal); columns task (A's task
-                                  folder in backticks) | LOGO (A's suite name) | seeds at ≥
-                                  the demonstrations (as in suite) | P(LOGO > TRPO) [95% CI]
-                                  (as in suite) | target: "met" where at least 4 seeds meet
-                                  the demonstrations and P's printed lower end is above 0.5,
-                                  else "not met: " the demonstrations, TRPO or both;
-                                  further columns (the page's reading) named in quoted=;
-           [policy=best]          every seed's best policy (eval.json's "best") in place
-                                  of its final one, for LOGO and TRPO alike
+  target   rows=A>B;...           the suite's target per task, a row each: A a LOGO arm's
+                                  group suite/TASK/logo…, B suite/TASK/trpo, 5 seeds each, the
+                                  demonstrations' level suite_arms.py's; columns task (TASK in
+                                  backticks) | LOGO (A's suite name) | seeds at ≥ the
+                                  demonstrations (their rate at the goal, or their return
+                                  where the task has none) | P(LOGO > TRPO) [95% CI] (as in
+                                  suite) | target: "met" where at least 4 seeds meet the
+                                  demonstrations and P's printed lower end is above 0.5, else
+                                  "not met: " the demonstrations, TRPO or both; the columns
+                                  after these (the page's reading) named in quoted=, and only
+           [policy=best]          those; policy=best: every seed's best policy (eval.json's
+                                  "best") in place of its final one, for LOGO and TRPO alike
   goal     rows=GROUP;...         a task that ends only at its goal: per group its seeds
                                   (exact), then per column "final: ... per seed" (or
                                   "best: ..."), each seed's count of eval.json episodes
@@ -427,25 +430,69 @@ def suite_finals(group, policy="final"):
 
 
 sys.path.insert(0, str(Path(__file__).resolve().parent / "experiments"))
-from suite_arms import ARM_NAMES as SUITE_ARMS  # noqa: E402 (the suite's own names)
+from suite_arms import ARM_NAMES as SUITE_ARMS, DEMONSTRATED  # noqa: E402 (the suite's own)
+
+
+def seeds_at_demonstrations(task, finals):
+    """How many of a suite task's seeds (their eval.json summaries) are at or above the
+    demonstrations: their rate at the goal, or their return where the task has none."""
+    demo = DEMONSTRATED[task]
+    if demo["reached"] is None:
+        return sum(f["return"] >= demo["return"] for f in finals)
+    k, n = demo["reached"]
+    return sum(f["reached"][0] / f["reached"][1] >= k / n for f in finals)
+
+
+def improvement_agrees(cell, xs, ys):
+    """A cell "P [LO, HI]" of P(X > Y): the point exact, each end within the band of the
+    bootstrap's quantiles (P moves in steps of 1/pairs, see band_agrees)."""
+    draws = bootstrap_two_draws(xs, ys, probability_of_improvement)
+    return band_agrees(cell, probability_of_improvement(xs, ys), draws, 0.0)
+
+
+def verdict(lo, hi, seeds, level=2000.0):
+    """versus' rule on an interval of a difference: ahead or behind where it excludes 0,
+    level where it holds 0 and is narrower than LEVEL, else unresolved; ", suggests"
+    where a side has fewer than 5 seeds."""
+    word = "ahead" if lo > 0 else "behind" if hi < 0 else "level" if hi - lo < level else "unresolved"
+    return word + (", suggests" if min(seeds) < 5 else "")
+
+
+def verdict_agrees(printed, cell, draws, seeds, level=2000.0):
+    """The printed verdict is its cell's printed interval's, and one the recomputed draws
+    give with each end anywhere in its band (quantiles 0.5% either side, as band_agrees):
+    an end printed across 0, or across LEVEL's width, within the interval's tolerance
+    still fails."""
+    ends = numbers(cell)
+    if len(ends) < 3 or printed != verdict(ends[1][0], ends[2][0], seeds, level):
+        return False
+    lows = (quantile(draws, 0.02), quantile(draws, 0.03))
+    highs = (quantile(draws, 0.97), quantile(draws, 0.98))
+    return printed in {verdict(lo, hi, seeds, level) for lo in lows for hi in highs}
+
+
+def exact_cell(body, header, wrong, r, c, text):
+    """A cell without numbers to round (a label, "—", a verdict) is TEXT; returns the
+    cells checked (1), for the caller's count."""
+    if body[r][c] != text:
+        wrong.append((r + 1, header[c], body[r][c], text))
+    return 1
 
 
 def check_suite(opts, header, body, compare, wrong):
     """The `suite` kind (see the module's docstring); returns how many cells it checked
     itself (`compare`, for numbers to their printed precision, counts its own)."""
-    intervals = 0
+    checked = 0
     groups = opts["rows"].split(";")
-
-    def exact(r, c, text):
-        """A cell without numbers to round (a label, "—"): the same text."""
-        nonlocal intervals
-        intervals += 1
-        if body[r][c] != text:
-            wrong.append((r + 1, header[c], body[r][c], text))
-
     if len(groups) != len(body):
         raise SystemExit(f"suite: {len(groups)} groups for {len(body)} rows")
+    task = Path(groups[0]).parent.name
     goal = "demos" in opts
+    demo = DEMONSTRATED.get(task)
+    if demo is not None:
+        said = tuple(int(v) for v in opts["demos"].split("/")) if goal else float(opts["demos_return"])
+        if said != (demo["reached"] if goal else demo["return"]):
+            raise SystemExit(f"suite: demos of {task} are {demo}, not {said} (suite_arms.py)")
     target = f"seeds at ≥ the demonstrations' {opts['demos']}" if goal else (
         f"seeds at ≥ the demonstrations' return {float(opts['demos_return']):.1f}")
     expected = ["method", "seeds", "final return: IQM [95% CI]",
@@ -457,15 +504,15 @@ def check_suite(opts, header, body, compare, wrong):
     returns = [[f["return"] for f in group] for group in finals]
     logo = returns[0]
     for r, (path, group, values) in enumerate(zip(groups, finals, returns)):
-        exact(r, 0, SUITE_ARMS.get(Path(path).name, Path(path).name))
+        checked += exact_cell(body, header, wrong, r, 0, SUITE_ARMS.get(Path(path).name, Path(path).name))
         compare(r, 1, str(len(values)))
         if not values:
             for c in range(2, len(header)):
-                exact(r, c, "—")
+                checked += exact_cell(body, header, wrong, r, c, "—")
             continue
         spread = max(values) - min(values)
         lo, hi = bootstrap_interval(values, iqm)
-        intervals += 1
+        checked += 1
         if not interval_agrees(body[r][2], iqm(values), (lo, hi), 0.05 * spread):
             wrong.append((r + 1, header[2], body[r][2], f"{iqm(values):.1f} [{lo:.1f}, {hi:.1f}]"))
         if goal:
@@ -474,76 +521,72 @@ def check_suite(opts, header, body, compare, wrong):
             k, n = (int(v) for v in opts["demos"].split("/"))
             met = sum(a / b >= k / n for a, b in counts)
         else:
-            exact(r, 3, "— (no goal)")
+            checked += exact_cell(body, header, wrong, r, 3, "— (no goal)")
             met = sum(v >= float(opts["demos_return"]) for v in values)
         compare(r, 4, f"{met} of {len(values)}")
         if r == 0 or not logo:
-            exact(r, 5, "—")
-            exact(r, 6, "—")
+            checked += exact_cell(body, header, wrong, r, 5, "—")
+            checked += exact_cell(body, header, wrong, r, 6, "—")
             continue
-        # P over 5 × 5 pairs moves in steps of 0.04: its ends are checked as versus does.
-        point = probability_of_improvement(logo, values)
-        intervals += 1
-        if not band_agrees(body[r][5], point, bootstrap_two_draws(logo, values, probability_of_improvement), 0.0):
-            wrong.append((r + 1, header[5], body[r][5], f"{point:.2f}"))
+        checked += 1
+        if not improvement_agrees(body[r][5], logo, values):
+            wrong.append((r + 1, header[5], body[r][5], f"{probability_of_improvement(logo, values):.2f}"))
         difference = lambda u, v: iqm(u) - iqm(v)  # noqa: E731
         point = difference(logo, values)
         lo, hi = bootstrap_two(logo, values, difference)
-        intervals += 1
+        checked += 1
         if not interval_agrees(body[r][6], point, (lo, hi), 0.05 * (max(logo + values) - min(logo + values))):
             wrong.append((r + 1, header[6], body[r][6], f"{point:.1f} [{lo:.1f}, {hi:.1f}]"))
-    return intervals
+    return checked
+
+
+TARGET_HEADER = ["task", "LOGO", "seeds at ≥ the demonstrations", "P(LOGO > TRPO) [95% CI]", "target"]
 
 
 def check_target(opts, header, body, compare, wrong):
     """The `target` kind (see the module's docstring); returns the cells it checked itself."""
     checked = 0
-
-    def exact(r, c, text):
-        nonlocal checked
-        checked += 1
-        if body[r][c] != text:
-            wrong.append((r + 1, header[c], body[r][c], text))
-
     rows = opts["rows"].split(";")
     if len(rows) != len(body):
         raise SystemExit(f"target: {len(rows)} rows named for {len(body)} in the table")
-    expected = ["task", "LOGO", "seeds at ≥ the demonstrations", "P(LOGO > TRPO) [95% CI]", "target"]
-    if header[:5] != expected:
-        raise SystemExit(f"target: header {header[:5]} is not {expected}")
+    if header[:len(TARGET_HEADER)] != TARGET_HEADER:
+        raise SystemExit(f"target: header {header[:len(TARGET_HEADER)]} is not {TARGET_HEADER}")
     quoted = {int(c) for c in opts.get("quoted", "").split(",") if c}
-    for c in range(len(expected), len(header)):
-        if c + 1 not in quoted:
-            raise SystemExit(f"column {c + 1} `{header[c]}`: unknown; name it in quoted=")
+    if quoted != set(range(len(TARGET_HEADER) + 1, len(header) + 1)):
+        raise SystemExit(f"target: quoted= must name the columns after the {len(TARGET_HEADER)}th "
+                         f"(the page's reading), and only those")
     policy = opts.get("policy", "final")
     if policy not in ("final", "best"):
         raise SystemExit(f"target: policy={policy}: expected final or best")
     for r, spec in enumerate(rows):
-        pair, _, demos = spec.partition("@")
-        logo_group, _, trpo_group = pair.partition(">")
-        logo, trpo = suite_finals(logo_group, policy), suite_finals(trpo_group, policy)
-        if not logo or not trpo:
-            raise SystemExit(f"target: no finished seed under {logo_group if not logo else trpo_group}")
-        exact(r, 0, f"`{Path(logo_group).parent.name}`")
-        exact(r, 1, SUITE_ARMS.get(Path(logo_group).name, Path(logo_group).name))
-        if "/" in demos:
-            k, n = (int(v) for v in demos.split("/"))
-            met = sum(f["reached"][0] / f["reached"][1] >= k / n for f in logo)
-        else:
-            met = sum(f["return"] >= float(demos) for f in logo)
+        m = re.fullmatch(r"(suite/([^/>]+)/(logo[^/>]*))>(suite/([^/>]+)/trpo)", spec)
+        if not m or m.group(2) != m.group(5):
+            raise SystemExit(f"target: row {spec!r} is not suite/TASK/LOGO-ARM>suite/TASK/trpo")
+        task = m.group(2)
+        if task not in DEMONSTRATED:
+            raise SystemExit(f"target: {task} is not a suite task (suite_arms.py DEMONSTRATED)")
+        logo, trpo = suite_finals(m.group(1), policy), suite_finals(m.group(4), policy)
+        if len(logo) != 5 or len(trpo) != 5:
+            raise SystemExit(f"target: {spec}: {len(logo)} and {len(trpo)} seeds; the target is "
+                             "read over 5 seeds a side")
+        checked += exact_cell(body, header, wrong, r, 0, f"`{task}`")
+        checked += exact_cell(body, header, wrong, r, 1, SUITE_ARMS.get(m.group(3), m.group(3)))
+        met = seeds_at_demonstrations(task, logo)
         compare(r, 2, f"{met} of {len(logo)}")
-        x, y = [f["return"] for f in logo], [f["return"] for f in trpo]
-        point = probability_of_improvement(x, y)
+        xs, ys = [f["return"] for f in logo], [f["return"] for f in trpo]
         checked += 1
-        if not band_agrees(body[r][3], point, bootstrap_two_draws(x, y, probability_of_improvement), 0.0):
-            wrong.append((r + 1, header[3], body[r][3], f"{point:.2f}"))
+        if not improvement_agrees(body[r][3], xs, ys):
+            wrong.append((r + 1, header[3], body[r][3], f"{probability_of_improvement(xs, ys):.2f}"))
             continue
         # The verdict reads the printed lower end, just checked against the bootstrap.
         beats_trpo = numbers(body[r][3])[1][0] > 0.5
-        meets_demos = met >= 4
-        missed = [name for name, ok in (("the demonstrations", meets_demos), ("TRPO", beats_trpo)) if not ok]
-        exact(r, 4, "met" if not missed else "not met: " + ("both" if len(missed) == 2 else missed[0]))
+        missed = [name for name, ok in (("the demonstrations", met >= 4), ("TRPO", beats_trpo)) if not ok]
+        checked += exact_cell(body, header, wrong, r, 4, "met" if not missed else
+                              "not met: " + ("both" if len(missed) == 2 else missed[0]))
     return checked
+
+
+MATRIX_LABEL = re.compile(r"\((\d+)(?: seeds)? × ([\d.]+[kM])\)")
 
 
 def check_matrix(opts, header, body, wrong):
@@ -557,40 +600,47 @@ def check_matrix(opts, header, body, wrong):
     for key, other in opts.items():
         m = re.fullmatch(r"r(\d+)c(\d+)", key)
         if m:
-            named[(int(m.group(1)) - 1, int(m.group(2)) - 1)] = other
+            r, c = int(m.group(1)) - 1, int(m.group(2)) - 1
+            if not (0 <= r < len(body) and 1 <= c < len(header)):
+                raise SystemExit(f"matrix: {key} is outside the body's rows and columns 2–{len(header)}")
+            named[(r, c)] = other
     for r, row in enumerate(body):
         for c in range(1, len(row)):
-            if (r, c) not in named and row[c] != "—":
-                wrong.append((r + 1, header[c], row[c], "— (no cell named rXcY)"))
-    for (r, c), other in sorted(named.items()):
-        m = re.fullmatch(r"([^@]+)@([\d.]+[kM]?):(\d+)(\+?)", rows[r])
+            if (r, c) not in named:
+                checked += exact_cell(body, header, wrong, r, c, "—")
+    columns = {}
+    for (r, c), other in named.items():
+        columns.setdefault(c, set()).add(SUITE_ARMS.get(Path(other).name, Path(other).name))
+    for c, names in sorted(columns.items()):
+        if names != {header[c]}:
+            raise SystemExit(f"matrix: column {c + 1} `{header[c]}` holds {sorted(names)}")
+    for r, spec in enumerate(rows):
+        m = re.fullmatch(r"([^@]+)@([\d.]+[kM]?):(\d+)(\+?)", spec)
         if not m:
-            raise SystemExit(f"matrix: row {rows[r]!r} is not GROUP@BUDGET:W[+]")
-        x, window = parse_samples(m.group(2)), int(m.group(3))
-        limit = math.inf if m.group(4) else x
-        xs, ys = (window_values(g, x, window, limit) for g in (m.group(1), other))
-        difference = lambda u, v: iqm(u) - iqm(v)  # noqa: E731
-        point, (lo, hi) = difference(xs, ys), bootstrap_two(xs, ys, difference)
-        cell = body[r][c]
-        split = re.search(r"−?-?\d", cell)
-        if split is None:
-            raise SystemExit(f"matrix: row {r + 1}, column {c + 1}: no numbers in {cell!r}")
-        verdict_text, numbers_text = cell[:split.start()].strip(), cell[split.start():]
+            raise SystemExit(f"matrix: row {spec!r} is not GROUP@BUDGET:W[+]")
+        budget, window = parse_samples(m.group(2)), int(m.group(3))
+        limit = math.inf if m.group(4) else budget
+        xs = window_values(m.group(1), budget, window, limit)
+        # The row's label says its seeds and budget: "(5 seeds × 200k)".
+        label = MATRIX_LABEL.search(body[r][0])
         checked += 1
-        if not interval_agrees(numbers_text, point, (lo, hi), 0.05 * (max(xs + ys) - min(xs + ys))):
-            wrong.append((r + 1, header[c], cell, f"{point:.1f} [{lo:.1f}, {hi:.1f}]"))
-            continue
-        ends = numbers(numbers_text)
-        lo, hi = ends[1][0], ends[2][0]
-        verdict = ("ahead" if lo > 0 else "behind" if hi < 0
-                   else "level" if hi - lo < level else "unresolved")
-        if min(len(xs), len(ys)) < 5:
-            verdict += ", suggests"
-        checked += 1
-        if verdict_text != verdict:
-            wrong.append((r + 1, header[c], cell, verdict))
+        if label is None or int(label.group(1)) != len(xs) or parse_samples(label.group(2)) != budget:
+            wrong.append((r + 1, header[0], body[r][0], f"… ({len(xs)} × {m.group(2)})"))
+        for c in sorted(c for (row, c) in named if row == r):
+            ys = window_values(named[(r, c)], budget, window, limit)
+            difference = lambda u, v: iqm(u) - iqm(v)  # noqa: E731
+            draws = bootstrap_two_draws(xs, ys, difference)
+            point, (lo, hi) = difference(xs, ys), percentile_interval(draws)
+            cell = body[r][c]
+            split = re.search(r"[−-]?\d", cell)
+            printed, figures = (cell[:split.start()].strip(), cell[split.start():]) if split else (cell, "")
+            checked += 1
+            if len(numbers(figures)) != 3 or not interval_agrees(
+                    figures, point, (lo, hi), 0.05 * (max(xs + ys) - min(xs + ys))):
+                wrong.append((r + 1, header[c], cell, f"{point:.1f} [{lo:.1f}, {hi:.1f}]"))
+            elif not verdict_agrees(printed, figures, draws, (len(xs), len(ys)), level):
+                wrong.append((r + 1, header[c], cell, verdict(lo, hi, (len(xs), len(ys)), level)))
     return checked
-
 
 # ---------------------------------------------------------------- comparing
 
@@ -655,8 +705,38 @@ def options(comment):
     return kind, opts
 
 
+# The options each kind reads (rXcY: its cells); any other is refused rather than ignored.
+OPTIONS = {
+    "summary": {"rows", "iterations", "quoted", "sustained", "first"},
+    "cells": {"rXcY", "quoted", "sustained", "first"},
+    "iterations": {"runs", "cols", "quoted"},
+    "seeds": {"runs", "threshold"},
+    "points": {"rows", "points"},
+    "windows": {"rows", "cols", "quoted"},
+    "evals": {"runs", "file", "quoted"},
+    "verdicts": {"rows", "seeds", "window", "quoted"},
+    "intervals": {"rows", "window"},
+    "compare": {"groups", "window"},
+    "arms": {"rows"},
+    "versus": {"rows", "max"},
+    "evaljson": {"rows"},
+    "suite": {"rows", "demos", "demos_return"},
+    "matrix": {"rows", "level", "rXcY"},
+    "target": {"rows", "policy", "quoted"},
+    "goal": {"rows"},
+    "config": {"file"},
+}
+
+
 def check_table(kind, opts, header, body):
     """(checked cells, mismatches, quoted columns) of one table."""
+    if kind not in OPTIONS:
+        raise SystemExit(f"unknown kind {kind}")
+    unread = sorted(k for k in opts if k not in OPTIONS[kind]
+                    and not (re.fullmatch(r"r\d+c\d+", k) and "rXcY" in OPTIONS[kind]))
+    if unread:
+        raise SystemExit(f"{kind}: option(s) {', '.join(unread)} not read by this kind "
+                         f"(it reads {', '.join(sorted(OPTIONS[kind]))})")
     quoted = {int(c) for c in opts.get("quoted", "").split(",") if c}
     checked, wrong = 0, []
 
@@ -900,20 +980,12 @@ def check_table(kind, opts, header, body):
             if not band_agrees(row[6], point, draws, 0.0):
                 lo, hi = percentile_interval(draws)
                 wrong.append((r + 1, header[6], row[6], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
-            # The verdict, from the difference's interval as printed: ahead or behind when
-            # it excludes 0, level when it holds 0 and is narrower than ±1000, else
-            # unresolved; "suggests" where either side has fewer than 5 seeds.
-            ends = numbers(row[7])
-            if len(ends) < 3:
-                raise SystemExit(f"versus: row {r + 1}: no interval in {row[7]!r}")
-            lo, hi = ends[1][0], ends[2][0]
-            verdict = ("ahead" if lo > 0 else "behind" if hi < 0
-                       else "level" if hi - lo < 2000 else "unresolved")
-            if min(len(xs), len(ys)) < 5:
-                verdict += ", suggests"
+            # The verdict: the printed interval's, and one the bootstrap gives (verdict()).
+            draws = bootstrap_two_draws(xs, ys, lambda u, v: iqm(u) - iqm(v))
+            seeds = (len(xs), len(ys))
             checked += 1
-            if row[8].strip().split(" (")[0] != verdict:
-                wrong.append((r + 1, header[8], row[8], verdict))
+            if not verdict_agrees(row[8].strip().split(" (")[0], row[7], draws, seeds):
+                wrong.append((r + 1, header[8], row[8], verdict(*percentile_interval(draws), seeds)))
     elif kind == "evaljson":
         columns = {
             "final: return": ("final", "mean_action", "return"),

@@ -42,7 +42,7 @@ import numpy as np
 
 import logo_rl
 from logo_rl.stats import interval, interval_two, iqm, probability_of_improvement
-from suite_arms import ARM_NAMES
+from suite_arms import ARM_NAMES, DEMONSTRATED
 
 ROOT = Path(__file__).resolve().parents[2]
 PRESET = ROOT / "configs" / "templates" / "new_task.toml"
@@ -551,18 +551,6 @@ def final_policy(folder: Path) -> dict | None:
     return None
 
 
-# The demonstrations' own figures, as `suite.py demos` printed them for the demonstrator
-# (data/README.md's table; the same episodes, from the same initial states, as were
-# recorded): episodes reaching the goal (None: the task has no goal) and the mean return.
-DEMONSTRATED = {
-    "reacher-goal": {"reached": (20, 20), "return": 29.70},
-    "maze": {"reached": (20, 20), "return": 406.05},
-    "mountain-car": {"reached": (15, 15), "return": 89.36},
-    "ant-distance": {"reached": (19, 20), "return": 719.40},
-    "hopper-delayed": {"reached": None, "return": 1381.50},
-}
-
-
 def bc_evaluation(folder: Path):
     """BC's policy.eval.json where a `logo bc` older than it left only the checkpoint:
     `logo eval --json` plays the same episodes (the checkpoint's seed, 20 fresh initial
@@ -590,15 +578,22 @@ def bc_evaluation(folder: Path):
 def task_table(out: Path, name: str, keep: Path | None) -> str:
     """One task's table and its check comment, whose groups name the folders --keep
     copies to (relative to docs/results/; docs/results/suite without --keep). An arm with
-    no runs under OUT is read where --keep already holds it (runs kept, then untracked,
-    by an earlier report), so a report of new arms keeps the old ones in the table."""
+    no finished run under OUT is read from --keep, where an earlier report copied it (its
+    runs since deleted from OUT), so a report of new arms keeps the old ones in the table."""
     runs = out / name / "runs"
-    kept_runs = keep / name if keep is not None else None
+    kept_task = keep / name if keep is not None else None
     seeds: dict[str, list[tuple[int, dict]]] = {}
-    source = {a: runs / a if (runs / a).is_dir() or kept_runs is None else kept_runs / a
-              for a in REPORTED}
+    finished = lambda arm: any(  # noqa: E731 (a BC seed is finished once its checkpoint is)
+        final_policy(f) or (f / "policy.safetensors").is_file() for f in (runs / arm).glob("seed*"))
+    source = {a: runs / a if kept_task is None or finished(a) else kept_task / a for a in REPORTED}
     arms = [a for a in REPORTED if a in ARMS or source[a].is_dir()]
     for arm in arms:
+        copying = kept_task is not None and source[arm] != kept_task / arm
+        if copying and (kept_task / arm).is_dir():
+            # Seeds of another config must not join the kept ones under one name.
+            first = next(source[arm].glob("seed*/config.toml"), None)
+            if first is not None:
+                refuse_other_runs(kept_task / arm, tomllib.loads(first.read_text()))
         found = []
         for folder in sorted(source[arm].glob("seed*"), key=lambda p: int(p.name[4:])):
             if arm == "bc":
@@ -606,9 +601,8 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
             policy = final_policy(folder)
             if policy is not None:
                 found.append((int(folder.name[4:]), policy))
-                destination = keep / name / arm / folder.name if keep is not None else None
-                if destination is not None and destination.resolve() != folder.resolve():
-                    keep_seed(folder, destination)
+                if copying:
+                    keep_seed(folder, kept_task / arm / folder.name)
         seeds[arm] = found
     demo = DEMONSTRATED[name]
     goal = demo["reached"] is not None

@@ -1,5 +1,6 @@
-"""The suite's methods as its tables name them: one list for suite.py, which writes the
-tables, and scripts/check_results.py, which checks them (and imports nothing heavy)."""
+"""The suite's methods as its tables name them, and its demonstrations' figures: one copy
+for suite.py, which writes the tables, and scripts/check_results.py, which checks them
+(and imports nothing heavy)."""
 
 # A method's folder under <task>/runs and its name in the tables.
 ARM_NAMES = {
@@ -14,4 +15,16 @@ ARM_NAMES = {
     "bc-trpo": "BC-TRPO",
     "dapg": "DAPG",
     "bc": "BC",
+}
+
+
+# The demonstrations' own figures, as `suite.py demos` printed them for the demonstrator
+# (data/README.md's table; the same episodes, from the same initial states, as were
+# recorded): episodes reaching the goal (None: the task has no goal) and the mean return.
+DEMONSTRATED = {
+    "reacher-goal": {"reached": (20, 20), "return": 29.70},
+    "maze": {"reached": (20, 20), "return": 406.05},
+    "mountain-car": {"reached": (15, 15), "return": 89.36},
+    "ant-distance": {"reached": (19, 20), "return": 719.40},
+    "hopper-delayed": {"reached": None, "return": 1381.50},
 }

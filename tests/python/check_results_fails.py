@@ -126,7 +126,7 @@ SUITE = """<!-- check suite rows=suite/reacher-goal/logo-decayed;suite/reacher-g
 """
 
 # The suite's target per task: seeds at the demonstrations, P(LOGO > TRPO), the verdict.
-TARGET = """<!-- check target rows=suite/reacher-goal/logo>suite/reacher-goal/trpo@20/20;suite/maze/logo-decayed>suite/maze/trpo@20/20;suite/hopper-delayed/logo>suite/hopper-delayed/trpo@1381.5 quoted=6 -->
+TARGET = """<!-- check target rows=suite/reacher-goal/logo>suite/reacher-goal/trpo;suite/maze/logo-decayed>suite/maze/trpo;suite/hopper-delayed/logo>suite/hopper-delayed/trpo quoted=6 -->
 | task | LOGO | seeds at ≥ the demonstrations | P(LOGO > TRPO) [95% CI] | target | why |
 | --- | --- | --- | --- | --- | --- |
 | `reacher-goal` | LOGO (new-task preset) | 4 of 5 | 0.16 [0.00, 0.48] | not met: TRPO | a reading |
@@ -138,8 +138,8 @@ TARGET = """<!-- check target rows=suite/reacher-goal/logo>suite/reacher-goal/tr
 MATRIX = """<!-- check matrix rows=fig1-idp/logo@200k:5+;new-task/ant/runs/logo@2M:10 r1c2=fig1-idp/gail r1c3=fig1-idp/trpo r2c2=fig1-ant/gail -->
 | LOGO against | GAIL | TRPO |
 | --- | --- | --- |
-| sparse IDP | unresolved −1276 [−4336, 484] | ahead 7699 [4207, 9022] |
-| sparse Ant | behind, suggests −343 [−574, −112] | — |
+| sparse IDP (5 seeds × 200k) | unresolved −1276 [−4336, 484] | ahead 7699 [4207, 9022] |
+| sparse Ant (3 × 2M) | behind, suggests −343 [−574, −112] | — |
 """
 
 
@@ -223,9 +223,9 @@ def main():
         "a target met where P's interval holds 0.5": TARGET.replace("| not met: TRPO |", "| met |"),
         "a target met short of the demonstrations": TARGET.replace("| not met: the demonstrations |", "| met |"),
         "a target's wrong seed count": TARGET.replace("| 4 of 5 |", "| 5 of 5 |"),
-        "a target's P against another method": TARGET.replace("reacher-goal/trpo@", "reacher-goal/bc@"),
+        "a target's P against another method": TARGET.replace("reacher-goal/trpo;", "reacher-goal/bc;"),
         "a target's wrong arm": TARGET.replace("| LOGO, δ_k decaying |", "| LOGO (new-task preset) |"),
-        "a target read at another task's demonstrations": TARGET.replace("trpo@1381.5", "trpo@999"),
+        "a target against another task's TRPO": TARGET.replace("hopper-delayed/trpo", "maze/trpo"),
         "a target with an unnamed column": TARGET.replace(" quoted=6", ""),
         "a target read from the final policies, the best named": TARGET.replace("check target", "check target policy=best"),
         "a grid's verdict the interval does not give": MATRIX.replace("unresolved −1276", "level −1276"),
@@ -233,6 +233,17 @@ def main():
         "a grid's wrong difference": MATRIX.replace("7699 [", "7600 ["),
         "a grid read up to the budget, its cells not": MATRIX.replace("200k:5+;", "200k:5;"),
         "a grid's value where no cell is named": MATRIX.replace("| — |", "| ahead 28 [−124, 246] |"),
+        "a grid's verdict from an end printed across 0": MATRIX.replace("behind, suggests −343 [−574, −112]", "level, suggests −343 [−574, 5]"),
+        "a grid's row label with other seeds": MATRIX.replace("(3 × 2M)", "(5 × 2M)"),
+        "a grid's columns named the other way": MATRIX.replace("| LOGO against | GAIL | TRPO |", "| LOGO against | TRPO | GAIL |"),
+        "a grid's text after the interval": MATRIX.replace("[4207, 9022] |", "[4207, 9022] over 9 seeds |"),
+        "a grid's cell outside the table": MATRIX.replace(" -->", " r3c2=fig1-idp/gail -->", 1),
+        "a grid whose level= makes a verdict level": MATRIX.replace(" -->", " level=10000 -->", 1),
+        "a target whose demonstrations it does not meet": TARGET.replace("| not met: the demonstrations |", "| not met: both |"),
+        "a target against another arm of the task": TARGET.replace("maze/trpo", "maze/logo"),
+        "a target's reading checked as quoted": TARGET.replace("quoted=6", "quoted=4,6"),
+        "a suite table with an option it does not read": SUITE.replace("check suite", "check suite policy=best"),
+        "a versus table with an option it does not read": VERSUS.replace("check versus", "check versus level=5000"),
         "a grid's cells swapped": MATRIX.replace("r1c2=fig1-idp/gail r1c3=fig1-idp/trpo", "r1c2=fig1-idp/trpo r1c3=fig1-idp/gail"),
     }
     for name, text in cases.items():

@@ -141,30 +141,23 @@ fn main() -> ExitCode {
 mod tests {
     use super::Cli;
     use clap::{Command, CommandFactory};
+    use std::collections::BTreeMap;
 
     /// docs/cli.md says it lists every command and flag that `--help` does: every visible
-    /// command has a row starting with its name, and each of its flags stands in one of
-    /// its rows.
+    /// command has a row starting with its name, each of its flags stands in one of its
+    /// rows, and every flag a row's command line names is one the command has.
     #[test]
     fn cli_md_lists_every_command_and_flag() {
         let page =
             std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/cli.md"))
                 .expect("docs/cli.md");
         let rows: Vec<&str> = page.lines().filter(|l| l.starts_with("| `logo ")).collect();
+        let mut flags = BTreeMap::new();
+        visible_flags(&Cli::command(), "logo", &mut flags);
         let mut missing = Vec::new();
-        undocumented(&Cli::command(), "logo", &rows, &mut missing);
-        assert!(missing.is_empty(), "docs/cli.md lacks {missing:?}");
-    }
-
-    fn undocumented(command: &Command, path: &str, rows: &[&str], missing: &mut Vec<String>) {
-        for sub in command.get_subcommands().filter(|c| !c.is_hide_set()) {
-            let name = format!("{path} {}", sub.get_name());
-            if sub.has_subcommands() {
-                undocumented(sub, &name, rows, missing);
-                continue;
-            }
+        for (name, (leaf, own)) in &flags {
             let head = format!("| `{name}");
-            let own: Vec<&str> = rows
+            let rows_of: Vec<&str> = rows
                 .iter()
                 .copied()
                 .filter(|r| {
@@ -172,20 +165,69 @@ mod tests {
                         .is_some_and(|rest| rest.starts_with([' ', '`']))
                 })
                 .collect();
-            if own.is_empty() {
-                missing.push(name);
-                continue;
+            if *leaf && rows_of.is_empty() {
+                missing.push(name.clone());
             }
-            let flags = sub
-                .get_arguments()
-                .filter(|a| !a.is_hide_set())
-                .filter_map(|a| a.get_long());
-            for flag in flags.map(|long| format!("--{long}")) {
-                if !own.iter().any(|row| names_flag(row, &flag)) {
+            for flag in own {
+                if !rows_of.iter().any(|row| names_flag(row, flag)) {
                     missing.push(format!("{name} {flag}"));
                 }
             }
         }
+        assert!(missing.is_empty(), "docs/cli.md lacks {missing:?}");
+        let unknown: Vec<String> = rows
+            .iter()
+            .flat_map(|row| unknown_flags(row, &flags))
+            .collect();
+        assert!(
+            unknown.is_empty(),
+            "docs/cli.md names flags the commands lack: {unknown:?}"
+        );
+    }
+
+    /// Every visible command by its full name ("logo data import"): whether it is a leaf
+    /// (a command run as it is, so it has rows of its own) and its long flags.
+    fn visible_flags(
+        command: &Command,
+        name: &str,
+        out: &mut BTreeMap<String, (bool, Vec<String>)>,
+    ) {
+        let own = command
+            .get_arguments()
+            .filter(|a| !a.is_hide_set())
+            .filter_map(|a| a.get_long())
+            .map(|long| format!("--{long}"))
+            .collect();
+        out.insert(name.to_string(), (!command.has_subcommands(), own));
+        for sub in command.get_subcommands().filter(|c| !c.is_hide_set()) {
+            visible_flags(sub, &format!("{name} {}", sub.get_name()), out);
+        }
+    }
+
+    /// The flags a row's command line (its first cell) names that its command lacks.
+    fn unknown_flags(row: &str, flags: &BTreeMap<String, (bool, Vec<String>)>) -> Vec<String> {
+        let line = row
+            .trim_start_matches("| `")
+            .split('`')
+            .next()
+            .unwrap_or("");
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let command = (1..=words.len())
+            .rev()
+            .map(|n| words[..n].join(" "))
+            .find(|name| flags.contains_key(name))
+            .unwrap_or_default();
+        let own = flags
+            .get(&command)
+            .map(|(_, own)| own.as_slice())
+            .unwrap_or_default();
+        words
+            .iter()
+            .flat_map(|w| w.split(['[', ']', '(', ')', '|', '=']))
+            .filter(|w| w.starts_with("--") && w.len() > 2)
+            .filter(|w| !own.iter().any(|f| f == w))
+            .map(|w| format!("{command} {w}"))
+            .collect()
     }
 
     /// `--seed` in a row, not only as the start of `--seeds`.
