@@ -108,7 +108,8 @@ pub struct TrainConfig {
     pub clip_actions: bool,
     #[serde_inline_default(10)]
     pub checkpoint_every: usize,
-    /// Start from this policy: a LOGO reference `.pt` (the reference's `--init-BC`).
+    /// Start from this policy: a LOGO reference `.pt` (the reference's `--init-BC`) or a
+    /// logo-rl checkpoint.
     pub init_policy: Option<PathBuf>,
     /// Where the policy starts (`[init]`): the seed's initialisation, or behaviour
     /// cloning on demonstrations (`kind = "bc"`: BC-TRPO, DAPG).
@@ -764,7 +765,10 @@ impl TrainConfig {
         self
     }
 
-    /// The config as a TOML file (every field, defaults included; absent options left out).
+    /// The config as a TOML file: every field, defaults included, but for the few written
+    /// only where they differ from their default (`[reward]`, `[init]`, `guidance.step`,
+    /// `grow_back`) and absent options; an `[algorithm]` preset's keys are written out,
+    /// its name is not (see `preset`).
     pub fn to_toml(&self) -> Result<String, toml::ser::Error> {
         toml::to_string(self)
     }

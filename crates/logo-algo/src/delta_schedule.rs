@@ -63,8 +63,8 @@ impl DeltaSchedule {
         }
     }
 
-    /// Feeds iteration `iteration`'s decay signal (the mean sparse training return, or the
-    /// batch's share of episodes at the goal).
+    /// Feeds iteration `iteration`'s decay signal (`decay_on`: the mean sparse training
+    /// return, the batch's share of episodes at the goal, or the evaluation's).
     pub fn update(&mut self, iteration: usize, signal: f64) {
         if iteration > self.warmup {
             if self.improved(signal) {
@@ -92,7 +92,8 @@ impl DeltaSchedule {
     }
 
     /// What a resume state must hold for a run whose config starts δ at `delta0`: δ in
-    /// [floor, δ_0] (it only ever shrinks), α in (0, 1], at most the window's 10 finite
+    /// [floor, δ_0] (it shrinks to the floor at most and grows back to δ_0 at most), α in
+    /// (0, 1], at most the window's 10 finite
     /// returns.
     pub fn check(&self, delta0: f64) -> Result<(), Invalid> {
         if !(self.delta.is_finite() && self.delta >= DELTA_FLOOR && self.delta <= delta0) {

@@ -18,9 +18,10 @@ pub fn censored_inputs(obs: &[f64], actions: &[f64], act_dim: usize, observe: us
 }
 
 /// LOGO's discriminator on an engine: D(s, a) = σ(logit), the probability that a pair
-/// came from the policy. Trained by one full-batch Adam step per iteration on binary
+/// came from the policy. Trained by `discriminator_steps` full-batch Adam steps per
+/// iteration (the reference: one) at `discriminator_lr` (the reference: 3e-4) on binary
 /// cross-entropy, policy pairs labelled 1 and demonstration pairs 0 (the loss is the sum
-/// of the two means, as the reference's GAIL-style code writes it); Adam's lr 3e-4.
+/// of the two means, as the reference's GAIL-style code writes it).
 pub struct DiscriminatorTrainer<E: Engine> {
     dims: Vec<usize>,
     pub net: E::Net,

@@ -35,8 +35,9 @@ pub struct GuidanceReward<E: Engine> {
 }
 
 impl<E: Engine> Guidance<E> {
-    /// r_C for every pair of `batch` (`data` is the same batch on the engine), from the
-    /// discriminator as the previous iteration left it.
+    /// r_C for every pair of `batch` (`data` is the same batch on the engine): −log D from
+    /// the discriminator as the previous iteration left it, or log π_b − log π_k from a
+    /// known behaviour policy.
     pub fn rewards(&self, engine: &E, batch: &Batch, data: &StepBatch<E>) -> GuidanceReward<E> {
         match &self.signal {
             GuidanceSignal::Discriminator(d) => {

@@ -7,7 +7,8 @@
 //!    with the env critic as it stands;
 //!    (DAPG: the demonstrations join the improvement step's batch as rows weighted
 //!    λ0·λ1^k·max Â, `dapg.rs`);
-//! 3. δ_k from the batch's mean sparse return; while δ_k is above its floor, the guidance
+//! 3. δ_k from the batch's decay signal (`decay_on`); while δ_k is above the guidance
+//!    threshold (6e-7, just above its floor), the guidance
 //!    reward r_C (from last iteration's discriminator, or log π_b − log π_k) and its
 //!    advantages with the guidance critic;
 //! 4. improvement step (`[improvement]`'s kind, KL ≈ δ = `max_kl`) → π_{k+½};
@@ -44,7 +45,8 @@ impl<E: Engine> Trainer<E> {
     /// One iteration, in Algorithm 1's order.
     pub(super) fn iterate(&mut self) -> Result<IterationMetrics, TrainError> {
         let k = self.learner.iteration;
-        // 1. Collect (s, a, r) with π_k (the pipelined schedule did so during k − 1).
+        // 1. Collect (s, a, r) with π_k (iteration k − 1 did so at its end; the first
+        //    iteration, or a resumed run's, collects here).
         let mut collected = match self.next_batch.take() {
             Some(collected) => collected,
             None => self.collect()?,
@@ -63,7 +65,8 @@ impl<E: Engine> Trainer<E> {
         //     w_k = λ0·λ1^k·max Â (`[demonstration_rows]`).
         let (with_demonstrations, demo_weight) = self.demonstration_rows(k, batch, &env);
 
-        // 3. δ_k, then the guidance reward and its advantages while δ_k is above its floor.
+        // 3. δ_k, then the guidance reward and its advantages while guidance is on
+        //    (δ_k above the threshold just over its floor).
         let guidance = in_phase("advantages", || {
             self.guidance_stream(k, batch, &data, mixed.as_ref())
         })?;
@@ -189,7 +192,7 @@ impl<E: Engine> Trainer<E> {
     }
 
     /// Step 3: δ_k from the batch's mean sparse return (or success rate: `decay_on`);
-    /// then, while δ_k is above its floor, r_C and its advantages with the guidance
+    /// then, while δ_k is above the guidance threshold, r_C and its advantages with the guidance
     /// critic. Where `[reward]` mixed −log D in already (`mixed`), r_C is taken from it.
     fn guidance_stream(
         &mut self,

@@ -47,7 +47,8 @@ pub struct Trainer<E: Engine> {
     learner: Learner<E>,
     resources: Resources<E>,
     recorder: Recorder,
-    /// Batch k+1, where the pipelined schedule collected it during iteration k.
+    /// Batch k+1, collected with π_{k+1} at the end of iteration k (under either
+    /// schedule; the pipelined one beside the critic fits).
     next_batch: Option<Collected>,
     behaviour_cloning: Option<BcReport>,
 }
@@ -154,14 +155,6 @@ impl<E: Engine> Trainer<E> {
         self.learner.acting(&self.resources.engine)
     }
 
-    pub fn run_dir(&self) -> &Path {
-        self.recorder.path()
-    }
-
-    pub fn schedule(&self) -> Schedule {
-        self.resources.schedule
-    }
-
     /// Lays the iterations over the threads by `schedule` (the numbers do not change).
     pub fn set_schedule(&mut self, schedule: Schedule) {
         self.resources.schedule = schedule;
@@ -185,14 +178,14 @@ impl<E: Engine> Trainer<E> {
     }
 
     /// The run's state after its latest iteration: what a checkpoint holds.
-    pub fn state(&self) -> Result<LearnerState, TrainError> {
+    fn state(&self) -> Result<LearnerState, TrainError> {
         let Resources {
             engine,
             collector,
             shapes,
             ..
         } = &self.resources;
-        // Before the next batch, where the pipelined schedule has already collected it.
+        // Before the next batch, which the iteration has already collected.
         let sampler = match &self.next_batch {
             Some(next) => next.before.clone(),
             None => collector.state()?,

@@ -150,7 +150,7 @@ impl Collector {
     }
 }
 
-/// Step 8's env and fixed initial states.
+/// Step 8's env and initial states (fixed, or fresh per iteration: `eval_initial_states`).
 pub(super) struct Evaluator {
     pub(super) env: Box<dyn Env>,
     pub(super) seed: u64,
