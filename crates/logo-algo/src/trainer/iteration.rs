@@ -45,8 +45,7 @@ impl<E: Engine> Trainer<E> {
     /// One iteration, in Algorithm 1's order.
     pub(super) fn iterate(&mut self) -> Result<IterationMetrics, TrainError> {
         let k = self.learner.iteration;
-        // 1. Collect (s, a, r) with π_k (iteration k − 1 did so at its end; the first
-        //    iteration, or a resumed run's, collects here).
+        // 1. Collect (s, a, r) with π_k, unless the end of iteration k − 1 already did.
         let mut collected = match self.next_batch.take() {
             Some(collected) => collected,
             None => self.collect()?,
@@ -65,8 +64,7 @@ impl<E: Engine> Trainer<E> {
         //     w_k = λ0·λ1^k·max Â (`[demonstration_rows]`).
         let (with_demonstrations, demo_weight) = self.demonstration_rows(k, batch, &env);
 
-        // 3. δ_k, then the guidance reward and its advantages while guidance is on
-        //    (δ_k above the threshold just over its floor).
+        // 3. δ_k, then the guidance reward and its advantages while guidance is on.
         let guidance = in_phase("advantages", || {
             self.guidance_stream(k, batch, &data, mixed.as_ref())
         })?;
