@@ -10,7 +10,7 @@
 //! | iteration k's guidance step | stream `stream_id(k, GuidanceStep)` | likewise |
 //! | iteration k's env critic fit | stream `stream_id(k, EnvCriticFit)` | minibatch shuffles (`method = "adam"`), every net of the set in turn |
 //! | iteration k's guidance critic fit | stream `stream_id(k, GuidanceCriticFit)` | likewise |
-//! | the discriminator | none | one full-batch step per iteration |
+//! | the discriminator | none | `discriminator_steps` full-batch steps per iteration |
 //! | behaviour cloning (`[init] kind = "bc"`, `logo bc`) | ChaCha8(seed), stream [`EVALUATION_STREAMS`] − 1 (`bc::generator`) | minibatch shuffles, once before iteration 0 |
 //! | the evaluation (`eval_initial_states = "fixed"`, the default) | none: reset seeds [`crate::episode::evaluation_seed`], the same at every iteration by design, mean actions | every evaluation |
 //! | iteration k's evaluation (`"fresh"`) | ChaCha8(seed), stream [`EVALUATION_STREAMS`] + k, apart from every id above | one `u64` reset seed per episode |
