@@ -367,9 +367,10 @@ def baseline_config(folder: Path, method: str, logo: Path, table: dict | None = 
     return path
 
 
-def refuse_other_runs(arm: Path, config: dict):
+def refuse_other_runs(arm: Path, config: dict, then: str = "to run the new config"):
     """Stops where a kept run of ARM was made with other guidance settings than CONFIG's:
-    `logo sweep` would count it done (or resume it with its own config) under the new one.
+    `logo sweep` would count it done (or resume it with its own config) under the new one,
+    and a report would keep both under one name (THEN: what moving ARM aside allows).
     What δ_k's decay reads does not matter where neither decays (α = 1)."""
     wanted = {**GUIDANCE_DEFAULTS, **config.get("guidance", {})}
     for run_config in sorted(arm.glob("seed*/config.toml")):
@@ -381,7 +382,7 @@ def refuse_other_runs(arm: Path, config: dict):
             if kept.get(key) != wanted.get(key):
                 raise SystemExit(
                     f"{run_config}: guidance.{key} = {kept.get(key)!r}, the suite's config "
-                    f"now says {wanted.get(key)!r}; move {arm} aside to run the new config")
+                    f"now says {wanted.get(key)!r}; move {arm} aside {then}")
 
 
 def write_if_changed(path: Path, text: str):
@@ -593,7 +594,8 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
             # Seeds of another config must not join the kept ones under one name.
             first = next(source[arm].glob("seed*/config.toml"), None)
             if first is not None:
-                refuse_other_runs(kept_task / arm, tomllib.loads(first.read_text()))
+                refuse_other_runs(kept_task / arm, tomllib.loads(first.read_text()),
+                                  then=f"to keep {source[arm]}'s runs in its place")
         found = []
         for folder in sorted(source[arm].glob("seed*"), key=lambda p: int(p.name[4:])):
             if arm == "bc":
