@@ -962,11 +962,13 @@ def check_table(kind, opts, header, body):
             compare(r, 3, str(len(xs)))
             compare(r, 5, str(len(ys)))
             spread = max(xs + ys) - min(xs + ys)
+            # The difference's draws serve its interval and the verdict alike.
+            differences = bootstrap_two_draws(xs, ys, lambda u, v: iqm(u) - iqm(v))
             cells = [
                 (2, lambda u, v: iqm(u), lambda: bootstrap_interval(xs, iqm), 0.05 * spread),
                 (4, lambda u, v: iqm(v), lambda: bootstrap_interval(ys, iqm), 0.05 * spread),
-                (7, lambda u, v: iqm(u) - iqm(v),
-                 lambda: bootstrap_two(xs, ys, lambda u, v: iqm(u) - iqm(v)), 0.05 * spread),
+                (7, lambda u, v: iqm(u) - iqm(v), lambda: percentile_interval(differences),
+                 0.05 * spread),
             ]
             for c, stat, interval, tolerance in cells:
                 point, (lo, hi) = stat(xs, ys), interval()
@@ -981,11 +983,10 @@ def check_table(kind, opts, header, body):
                 lo, hi = percentile_interval(draws)
                 wrong.append((r + 1, header[6], row[6], f"{point:.2f} [{lo:.2f}, {hi:.2f}]"))
             # The verdict: the printed interval's, and one the bootstrap gives (verdict()).
-            draws = bootstrap_two_draws(xs, ys, lambda u, v: iqm(u) - iqm(v))
             seeds = (len(xs), len(ys))
             checked += 1
-            if not verdict_agrees(row[8].strip().split(" (")[0], row[7], draws, seeds):
-                wrong.append((r + 1, header[8], row[8], verdict(*percentile_interval(draws), seeds)))
+            if not verdict_agrees(row[8].strip().split(" (")[0], row[7], differences, seeds):
+                wrong.append((r + 1, header[8], row[8], verdict(*percentile_interval(differences), seeds)))
     elif kind == "evaljson":
         columns = {
             "final: return": ("final", "mean_action", "return"),
