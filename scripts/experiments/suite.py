@@ -159,6 +159,27 @@ def mountain_car_controller(obs):
     return [1.0 if obs[1] >= 0 else -1.0]
 
 
+def degraded(make_controller, gain, sigma, seed=0):
+    """A worse demonstrator made from a scripted one: its action scaled by GAIN, plus
+    Gaussian noise of standard deviation SIGMA, clipped to [-1, 1] (every suite task's
+    action range). Clipping keeps the noise from averaging out: the mean action a clone
+    learns is weaker than the controller's, so the demonstrations are sub-optimal in what
+    they teach, not only noisy. A maker: each call starts the noise's generator anew
+    (SEED), so that the demonstrator's play that `demos` prints and the recording draw the
+    same noise on the same episodes."""
+
+    def make():
+        controller, rng = make_controller(), np.random.default_rng(seed)
+
+        def act(obs):
+            clean = gain * np.asarray(controller(obs), dtype=np.float64)
+            return np.clip(clean + sigma * rng.standard_normal(clean.shape), -1.0, 1.0)
+
+        return act
+
+    return make
+
+
 def logo_env(env_id, limit):
     """The maker of a logo-rl env under Gymnasium's TimeLimit (what recording expects),
     named after the env id, which the recorded dataset then names as its env."""
@@ -240,6 +261,31 @@ TASKS = {
 }
 
 
+# Degraded demonstrations (the issue of going beyond sub-optimal demonstrations): the same
+# task, env, success rule and budget, demonstrated by the task's scripted controller made
+# worse by `degraded` so that it reaches the goal in 30-60% of its episodes; the gain and
+# noise were chosen on the episodes `demos` prints (seed 0) before any run, and fixed.
+# TRPO uses no demonstrations: a degraded task's table reads TRPO's runs of its base task.
+DEGRADED = {
+    "reacher-goal-degraded": ("reacher-goal", lambda: reacher_controller(), 0.5, 1.0),
+    "mountain-car-degraded": ("mountain-car", lambda: mountain_car_controller, 0.1, 1.0),
+    "maze-degraded": ("maze", lambda: maze_controller(), 0.2, 1.0),
+}
+for _name, (_base, _controller, _gain, _sigma) in DEGRADED.items():
+    TASKS[_name] = dict(TASKS[_base], base=_base, demonstrator=None,
+                        make_demonstrator=degraded(_controller, _gain, _sigma),
+                        degradation=(_gain, _sigma))
+    TASKS[_name].pop("dataset", None)
+
+
+def demonstrator_of(task):
+    """A task's demonstrator, made anew where it has a maker (a degraded one's noise starts
+    again) or on first use (the maze's reads its map)."""
+    if "make_demonstrator" in task:
+        return task["make_demonstrator"]()
+    return task["demonstrator"] or maze_controller()
+
+
 def make_env(env):
     """A task's env: its maker called, or its Gymnasium id made."""
     import gymnasium as gym
@@ -292,8 +338,11 @@ def demos(out: Path, names, episodes, seed):
         zero_act = lambda obs: np.zeros(space.shape)  # noqa: E731
         print(f"{name} ({task['kind']}): {task['env_id']}, success = {task['success']!r}, "
               f"budget {task['budget']:,} samples")
-        demonstrator = task["demonstrator"] or maze_controller()
-        for who, act in [("demonstrator", demonstrator), ("random", random_act),
+        if "degradation" in task:
+            gain, sigma = task["degradation"]
+            print(f"  demonstrator: {task['base']}'s, its action × {gain} plus N(0, {sigma}²) "
+                  "noise, clipped to [-1, 1]")
+        for who, act in [("demonstrator", demonstrator_of(task)), ("random", random_act),
                          ("zero", zero_act)]:
             print(describe(who, play(env, act, n, seed, task["success"])))
         path = out / name / "demos"
@@ -304,7 +353,7 @@ def demos(out: Path, names, episodes, seed):
                 path.symlink_to(os.path.relpath(ROOT / task["dataset"], path.parent))
             print(f"  demonstrations: {task['dataset']} (linked from {path})")
             continue
-        recording = logo_rl.record(task["env"], demonstrator, n, path, seed=seed)
+        recording = logo_rl.record(task["env"], demonstrator_of(task), n, path, seed=seed)
         print(f"  recorded {recording.episodes} episodes, {recording.steps} steps into {path}")
 
 
@@ -344,6 +393,13 @@ CANDIDATES = {
     "logo-eval-following": {"alpha": 0.9, "decay_on": "evaluation", "decay_from": 0.9,
                             "grow_back": True},
 }
+
+
+# Arms that start from the demonstrations' clone: the named arm's config with `[init] kind =
+# "bc"` (behaviour cloning on the guidance's demonstrations before the first iteration),
+# nothing else changed. `bc-logo`: the new-task preset from the clone, the first probe of
+# LOGO that keeps the clone (run only when named by --arms).
+CLONE_STARTED = {"bc-logo": "logo"}
 
 
 # The seed's Figure 1 baselines (docs/algorithms.md), each the task's LOGO config made into
@@ -423,8 +479,17 @@ def configs(out: Path, name: str) -> list[Path]:
     write_if_changed(trpo, header + top + body[:cut].rstrip() + "\n")
     for arm, keys in CANDIDATES.items():
         write_if_changed(folder / f"{arm}.toml", header + top + candidate(body, arm, keys) + "\n")
+    for arm, source in CLONE_STARTED.items():
+        text = (folder / f"{source}.toml").read_text()
+        if "\n[init]" in text:
+            raise SystemExit(f"{folder / source}.toml has an [init] table already: {arm} would "
+                             "not be that config from the clone alone")
+        write_if_changed(folder / f"{arm}.toml",
+                         text + f"\n# {arm}: {source}'s config from the demonstrations' clone "
+                         "(scripts/experiments/suite.py CLONE_STARTED)\n[init]\nkind = \"bc\"\n")
     baselines = [baseline_config(out, method, logo) for method in BASELINES]
-    return [logo, trpo] + [folder / f"{arm}.toml" for arm in CANDIDATES] + baselines
+    return ([logo, trpo] + [folder / f"{arm}.toml" for arm in CANDIDATES]
+            + [folder / f"{arm}.toml" for arm in CLONE_STARTED] + baselines)
 
 
 def candidate(body: str, arm: str, keys: dict) -> str:
@@ -456,12 +521,16 @@ def run(out: Path, names, seeds: str, iterations: int | None = None, arms=ARMS):
     for name in names:
         task = TASKS[name]
         folder = out / name
+        if "base" in task and "trpo" in arms:
+            # TRPO uses no demonstrations: its runs of the base task are the degraded task's.
+            print(f"[suite] {name}: TRPO's runs are {task['base']}'s (no demonstrations)")
+            arms = tuple(a for a in arms if a != "trpo")
         if task.get("python"):
             run_python(folder, name, seeds, iterations, arms)
             continue
         written = configs(folder, name)
         for config in written:
-            if config.stem in ("logo", *CANDIDATES) and config.stem in arms:
+            if config.stem in ("logo", *CANDIDATES, *CLONE_STARTED) and config.stem in arms:
                 refuse_other_runs(folder / "runs" / config.stem, tomllib.loads(config.read_text()))
         logo = written[0]
         for config in written:
@@ -502,11 +571,12 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
     the Python env), with the same arms and the new-task preset."""
     task = TASKS[name]
     preset = tomllib.loads(PRESET.read_text())
-    if {"logo", "trpo", *CANDIDATES, *BASELINES} & set(arms) and _logo_rl_preset() != preset:
+    if ({"logo", "trpo", *CANDIDATES, *CLONE_STARTED, *BASELINES} & set(arms)
+            and _logo_rl_preset() != preset):
         raise SystemExit(f"logo_rl's new-task preset is not {PRESET} as it is now (the package "
                          "was built before the file changed): build it again, scripts/setup.sh")
-    if "logo" in arms:
-        refuse_other_runs(folder / "runs" / "logo", preset)
+    for arm in [a for a in ("logo", *CLONE_STARTED) if a in arms]:
+        refuse_other_runs(folder / "runs" / arm, preset)
     for arm in CANDIDATES.keys() & set(arms):
         guidance = {**preset["guidance"], **CANDIDATES[arm]}
         refuse_other_runs(folder / "runs" / arm, {**preset, "guidance": guidance})
@@ -515,10 +585,15 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
     # Each arm's config and keys for logo_rl.train: the preset with the arm's own keys, or
     # (a baseline) the preset made into that method.
     starts = {}
-    for arm in [a for a in ("logo", *CANDIDATES, "trpo") if a in arms]:
+    for arm in [a for a in ("logo", *CANDIDATES, *CLONE_STARTED, "trpo") if a in arms]:
         arm_keys = {"guidance": None} if arm == "trpo" else {"demos": demos}
         if arm in CANDIDATES:
             arm_keys["guidance"] = CANDIDATES[arm]
+        if arm in CLONE_STARTED:
+            if CLONE_STARTED[arm] != "logo":
+                raise SystemExit(f"{arm}: a Python task's clone-started arm starts from the "
+                                 "preset's config (logo) alone")
+            arm_keys["init"] = {"kind": "bc"}
         starts[arm] = ("new-task", dict(iterations=n, success=task["success"], **arm_keys))
     for method in [m for m in BASELINES if m in arms]:
         starts[method] = (baseline_config(folder, method, PRESET, {
@@ -587,9 +662,16 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
     finished = lambda arm: any(  # noqa: E731 (a BC seed is finished once its checkpoint is)
         final_policy(f) or (f / "policy.safetensors").is_file() for f in (runs / arm).glob("seed*"))
     source = {a: runs / a if kept_task is None or finished(a) else kept_task / a for a in REPORTED}
+    if "base" in TASKS[name]:
+        # TRPO uses no demonstrations: the base task's runs, as kept (or under OUT).
+        base = TASKS[name]["base"]
+        kept_base = keep / base / "trpo" if keep is not None else None
+        source["trpo"] = kept_base if kept_base is not None and kept_base.is_dir() \
+            else out / base / "runs" / "trpo"
     arms = [a for a in REPORTED if a in ARMS or source[a].is_dir()]
     for arm in arms:
-        copying = kept_task is not None and source[arm] != kept_task / arm
+        copying = (kept_task is not None and source[arm] != kept_task / arm
+                   and not (arm == "trpo" and "base" in TASKS[name]))
         if copying and (kept_task / arm).is_dir():
             # Seeds of another config must not join the kept ones under one name.
             first = next(source[arm].glob("seed*/config.toml"), None)
@@ -645,7 +727,8 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
     docs = ROOT / "docs" / "results"
     kept = keep.resolve() if keep is not None else docs / "suite"
     base = kept.relative_to(docs) if kept.is_relative_to(docs) else kept
-    groups = ";".join(f"{base}/{name}/{arm}" for arm in arms)
+    groups = ";".join(f"{base}/{TASKS[name].get('base', name) if arm == 'trpo' else name}/{arm}"
+                      for arm in arms)
     demos_option = (f"demos={demo['reached'][0]}/{demo['reached'][1]}" if goal
                     else f"demos_return={demo['return']}")
     lines = [f"<!-- check suite rows={groups} {demos_option} -->",
@@ -684,7 +767,7 @@ def learning_figure(keep: Path, name: str):
                     if task["success"] == "none" else
                     ("train_success", "share of sampled episodes at the goal"))
     # (figure, its arms, the arms one of which must be kept for it to be drawn)
-    main_arms = ("logo", "logo-decayed", *CANDIDATES, "trpo")
+    main_arms = ("logo", "logo-decayed", *CANDIDATES, *CLONE_STARTED, "trpo")
     figures = [(name, main_arms, main_arms),
                (f"{name}-baselines", ("logo", "trpo", *BASELINES), BASELINES)]
     legend = ["--legend", task["legend"]] if "legend" in task else []
@@ -724,7 +807,8 @@ def main(argv=None):
     r.add_argument("--iterations", type=int, default=None,
                    help="fewer iterations than the budget's (a smoke test)")
     r.add_argument("--arms", default=",".join(ARMS),
-                   help="the methods to run, of " + ", ".join(ARMS + tuple(CANDIDATES) + BASELINES) +
+                   help="the methods to run, of " + ", ".join(
+                       ARMS + tuple(CANDIDATES) + tuple(CLONE_STARTED) + BASELINES) +
                    " (a changed preset needs only logo run again; a candidate preset and the "
                    "baselines are run only when named)")
     p = sub.add_parser("report", help="each task's table of final policies")
@@ -744,7 +828,7 @@ def main(argv=None):
         parser.error(f"unknown task(s) {', '.join(unknown)}; the tasks: {', '.join(TASKS)}")
     if args.command == "run":
         arms = tuple(a.strip() for a in args.arms.split(","))
-        known = ARMS + tuple(CANDIDATES) + BASELINES
+        known = ARMS + tuple(CANDIDATES) + tuple(CLONE_STARTED) + BASELINES
         if not arms or any(a not in known for a in arms):
             parser.error(f"--arms {args.arms!r}: expected some of {', '.join(known)}, "
                          "separated by commas")

@@ -9,6 +9,7 @@ ARM_NAMES = {
     "logo-waiting": "LOGO, δ_k waiting for 0.9 of the batch at the goal",
     "logo-eval-waiting": "LOGO, δ_k waiting for 0.9 of the evaluation at the goal",
     "logo-eval-following": "LOGO, δ_k following the evaluation's 0.9 at the goal",
+    "bc-logo": "LOGO from the clone (new-task preset, [init] kind = \"bc\")",
     "trpo": "TRPO",
     "gail": "GAIL",
     "pofd": "POfD",
@@ -27,4 +28,8 @@ DEMONSTRATED = {
     "mountain-car": {"reached": (15, 15), "return": 89.36},
     "ant-distance": {"reached": (19, 20), "return": 719.40},
     "hopper-delayed": {"reached": None, "return": 1381.50},
+    # The degraded demonstrators (suite.py DEGRADED), as `suite.py demos` printed them.
+    "reacher-goal-degraded": {"reached": (10, 20), "return": 1.05},
+    "maze-degraded": {"reached": (7, 20), "return": 32.95},
+    "mountain-car-degraded": {"reached": (8, 15), "return": 9.93},
 }
