@@ -374,3 +374,91 @@ fn kept_checkpoint_families_resume_to_their_recorded_digests() {
         fixture.display()
     );
 }
+
+/// The Figure 1 baselines, recorded before the trainer's seams moved (issue of one table
+/// of methods; fixtures written with the training code of 60a6047): GAIL, POfD, BC-TRPO and DAPG
+/// as the shipped configs make them (`configs/<method>/inverted_double_pendulum.toml`,
+/// the Figure 1 runs' form) train to their golden metrics and tensors in 3 iterations,
+/// and a run stopped after 2 and resumed (`logo train --resume`) ends on the same tensors
+/// and rows as the unbroken one.
+const FIGURE_ONE_BASELINES: [&str; 4] = ["gail", "pofd", "bc-trpo", "dapg"];
+
+#[test]
+fn figure_one_baselines_train_and_resume_to_their_golden_runs() {
+    for method in FIGURE_ONE_BASELINES {
+        let config = format!("configs/{method}/inverted_double_pendulum.toml");
+        let fixture = format!("idp-{method}-f64");
+        check(&fixture, &config, "3", Some("f64"));
+        if std::env::var_os("LOGO_GOLDEN_WRITE").is_none() {
+            check_resumed(&fixture, &config, "2", "3");
+        }
+    }
+}
+
+/// The same four made by `logo compare` (`algorithms::configure`) from the new-task
+/// template, as the suite's baseline runs are: sparse Hopper, 2 iterations, with
+/// observation statistics, ten discriminator steps and `kl_limit`.
+#[test]
+fn suite_baselines_as_logo_compare_makes_them_train_to_their_golden_runs() {
+    let template = root().join("configs/templates/new_task.toml");
+    let base = logo_algo::TrainConfig::load(&template).unwrap();
+    let dir = std::env::temp_dir().join(format!("logo-golden-{}-suite", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for method in FIGURE_ONE_BASELINES {
+        let made = logo_algo::algorithms::configure(&base, method).unwrap();
+        let config = dir.join(format!("{method}.toml"));
+        std::fs::write(&config, made.to_toml().unwrap()).unwrap();
+        let config = config.to_str().unwrap();
+        check(&format!("new-task-{method}-f64"), config, "2", Some("f64"));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `config` trained for `first` iterations, then resumed to `last`: the rows and tensors
+/// of the golden run `fixture` (which ran `last` unbroken).
+fn check_resumed(fixture: &str, config: &str, first: &str, last: &str) {
+    let out = std::env::temp_dir().join(format!(
+        "logo-golden-{}-{fixture}-resumed",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&out);
+    let logo = |args: &[&str]| {
+        let status = Command::new(env!("CARGO_BIN_EXE_logo"))
+            .current_dir(root())
+            .args(args)
+            .args(["--no-tensorboard", "--dtype", "f64"])
+            .stdout(Stdio::null())
+            .status()
+            .unwrap();
+        assert!(status.success(), "{fixture}: logo {args:?} failed");
+    };
+    let dir = out.to_str().unwrap();
+    logo(&[
+        "train",
+        "--config",
+        config,
+        "--iterations",
+        first,
+        "--out",
+        dir,
+    ]);
+    logo(&["train", "--resume", dir, "--iterations", last]);
+    let metrics: String = logo_testkit::metrics_without_timings(&out)
+        .into_iter()
+        .map(|row| row + "\n")
+        .collect();
+    let tensors = tensors(&out);
+    std::fs::remove_dir_all(&out).unwrap();
+    let golden = root().join("tests/golden").join(fixture);
+    let want = std::fs::read_to_string(golden.join("metrics.csv")).unwrap();
+    for (column, values) in &columns(&want) {
+        let got = columns(&metrics);
+        let ours = &got.iter().find(|(c, _)| c == column).unwrap().1;
+        assert_eq!(ours, values, "{fixture} resumed: column {column}");
+    }
+    let want = std::fs::read_to_string(golden.join("tensors.txt")).unwrap();
+    assert_eq!(
+        tensors, want,
+        "{fixture} resumed: final checkpoint's tensors"
+    );
+}
