@@ -395,13 +395,19 @@ impl TrainConfig {
         if overrides.is_empty() && removed.is_empty() {
             return Self::parse(&text, path, base);
         }
-        let mut table: toml::Table =
-            toml::from_str(&text).map_err(|e| ConfigError::toml(path, &e))?;
+        let mut table = Self::read_table(path)?;
         for key in removed {
             table.remove(*key);
         }
         lay_over(&mut table, overrides);
         Self::from_table(table, path, base)
+    }
+
+    /// A config file's keys as written, before any check of their meaning: the errors of
+    /// a file that is not there or not TOML, as [`Self::load`] gives them.
+    pub fn read_table(path: &Path) -> Result<toml::Table, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ConfigError::reading(path, &e))?;
+        toml::from_str(&text).map_err(|e| ConfigError::toml(path, &e))
     }
 
     /// A config given as a table (the Python package's dict): `origin` names it in errors,

@@ -3,10 +3,9 @@
 use logo_envs::render::{Look, Renderer};
 use logo_envs::{Env, EnvFactory, EnvOptions};
 use numpy::{IntoPyArray, PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray1};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::{env_error, render_error};
+use crate::errors::{env_error, render_error, value_error};
 
 /// Every id `RustEnv` takes by name (`logo envs`): the dense tasks, then LOGO's sparse ones.
 #[pyfunction]
@@ -26,14 +25,12 @@ pub fn time_limit(id: &str) -> PyResult<usize> {
 /// `max_episode_steps`: `None` for the limit Gymnasium registers the task with.
 pub(crate) fn factory(id: &str, max_episode_steps: Option<usize>) -> PyResult<EnvFactory> {
     if id.starts_with(logo_envs::EXTERNAL_PREFIX) {
-        return Err(PyValueError::new_err(format!(
+        return Err(value_error(format!(
             "{id}: a Python env is used as itself from Python, not through logo_rl's Rust envs"
         )));
     }
     if max_episode_steps == Some(0) {
-        return Err(PyValueError::new_err(
-            "max_episode_steps must be at least 1",
-        ));
+        return Err(value_error("max_episode_steps must be at least 1"));
     }
     let options = EnvOptions {
         max_episode_steps,
@@ -132,9 +129,7 @@ impl RustEnv {
         Option<f64>,
         Option<bool>,
     )> {
-        let action = action
-            .as_slice()
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let action = action.as_slice().map_err(|e| value_error(e.to_string()))?;
         let step = self.env.step(action, &mut self.obs).map_err(env_error)?;
         Ok((
             f64s(py, &self.obs),
@@ -155,14 +150,14 @@ impl RustEnv {
         qpos: PyReadonlyArray1<'py, f64>,
         qvel: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let value_error = |e: numpy::AsSliceError| PyValueError::new_err(e.to_string());
+        let not_contiguous = |e: numpy::AsSliceError| value_error(e.to_string());
         let (qpos, qvel) = (
-            qpos.as_slice().map_err(value_error)?,
-            qvel.as_slice().map_err(value_error)?,
+            qpos.as_slice().map_err(not_contiguous)?,
+            qvel.as_slice().map_err(not_contiguous)?,
         );
         self.env
             .set_state(qpos, qvel, &mut self.obs)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            .map_err(|e| value_error(e.to_string()))?;
         Ok(f64s(py, &self.obs))
     }
 

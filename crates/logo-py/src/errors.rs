@@ -165,6 +165,17 @@ pub(crate) fn raised(kind: Kind, message: String) -> PyErr {
     })
 }
 
+/// A value the package refuses (an array of the wrong shape, a bad argument): a
+/// `LogoValueError`, which is also a `ValueError`.
+pub(crate) fn value_error(message: impl Into<String>) -> PyErr {
+    raised(Kind::Value, message.into())
+}
+
+/// A file the package was given that is not there: a `LogoFileNotFoundError`.
+pub(crate) fn not_found(message: impl Into<String>) -> PyErr {
+    raised(Kind::NotFound, message.into())
+}
+
 /// What a check refused, raised by its kind (a missing file, a value).
 pub(crate) fn invalid(e: &Invalid, message: String) -> PyErr {
     raised(Kind::of_invalid(e), message)

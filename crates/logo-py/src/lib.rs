@@ -28,6 +28,7 @@ fn _logo_rl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(train::configure, m)?)?;
     m.add_function(wrap_pyfunction!(train::metric_columns, m)?)?;
     m.add_function(wrap_pyfunction!(train::run_dir_for, m)?)?;
+    m.add_function(wrap_pyfunction!(train::config_keys, m)?)?;
     m.add_function(wrap_pyfunction!(minari::write_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(minari::read_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(presets::presets, m)?)?;

@@ -8,11 +8,10 @@ use logo_data::{Dataset, Episode, write_minari};
 use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
-use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
 use serde_json::{Map, Value};
 
-use crate::errors::{Kind, LogoError, raised};
+use crate::errors::{Kind, LogoError, not_found, raised, value_error};
 
 /// One episode from Python: observations `[steps + 1, obs_dim]`, actions
 /// `[steps, act_dim]`, the env's rewards, terminations and truncations `[steps]`.
@@ -27,7 +26,7 @@ type PyEpisode<'py> = (
 fn values(array: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<f64>> {
     Ok(array
         .as_slice()
-        .map_err(|e| PyValueError::new_err(e.to_string()))?
+        .map_err(|e| value_error(e.to_string()))?
         .to_vec())
 }
 
@@ -49,10 +48,10 @@ pub fn write_dataset(
     summary_json: &str,
 ) -> PyResult<()> {
     let (Some(first), act_dim) = (episodes.first(), action_space.0.len()) else {
-        return Err(PyValueError::new_err("no episodes to write"));
+        return Err(value_error("no episodes to write"));
     };
     let summary: Value = serde_json::from_str(summary_json)
-        .map_err(|e| PyValueError::new_err(format!("summary_json: {e}")))?;
+        .map_err(|e| value_error(format!("summary_json: {e}")))?;
     let obs_dim = first.0.shape()[1];
     let mut parts = Vec::with_capacity(episodes.len());
     for (observations, actions, rewards, terminations, truncations) in &episodes {
@@ -61,7 +60,7 @@ pub fn write_dataset(
             actions: values(actions)?,
             rewards: rewards
                 .as_slice()
-                .map_err(|e| PyValueError::new_err(e.to_string()))?
+                .map_err(|e| value_error(e.to_string()))?
                 .to_vec(),
             terminations: terminations.clone(),
             truncations: truncations.clone(),
@@ -100,7 +99,7 @@ pub fn read_dataset<'py>(
     dir: PathBuf,
 ) -> PyResult<(Vec<ReadEpisode<'py>>, String)> {
     if !dir.exists() {
-        return Err(PyFileNotFoundError::new_err(format!(
+        return Err(not_found(format!(
             "{}: no such dataset folder",
             dir.display()
         )));
@@ -123,6 +122,6 @@ pub fn read_dataset<'py>(
         ));
     }
     let metadata = serde_json::to_string(&Value::Object(dataset.metadata))
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        .map_err(|e| value_error(e.to_string()))?;
     Ok((out, metadata))
 }

@@ -7,10 +7,9 @@ use logo_nn::{ActingPolicy, Kernels};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods,
 };
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::logo_error;
+use crate::errors::{logo_error, value_error};
 
 #[pyclass(frozen, module = "logo_rl._logo_rl")]
 pub struct Policy {
@@ -61,7 +60,7 @@ impl Policy {
         let shape = obs.shape();
         let (rows, width) = (shape[0], shape[1]);
         if width != self.obs_dim {
-            return Err(PyValueError::new_err(format!(
+            return Err(value_error(format!(
                 "observations of {width} values; the policy of {} ({}) takes {}",
                 self.env_id,
                 self.path.display(),
@@ -71,10 +70,10 @@ impl Policy {
         // A copy: Python may write the array while the GIL is released.
         let obs = obs
             .as_slice()
-            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .map_err(|e| value_error(e.to_string()))?
             .to_vec();
         if let Some(i) = obs.iter().position(|v| !v.is_finite()) {
-            return Err(PyValueError::new_err(format!(
+            return Err(value_error(format!(
                 "observation row {} has a non-finite value {} at index {}",
                 i / width,
                 obs[i],

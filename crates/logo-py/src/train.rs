@@ -12,10 +12,9 @@ use logo_cli::bc::BcJob;
 use logo_cli::train::{Console, Job, Start, run_dir_for_config, run_job};
 use logo_engine::{BackendKind, Dtype, EngineArgs, EngineKind};
 use logo_envs::{EnvConfig, EnvMaker, EnvSpec};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::{Kind, config_error, logo_error, raised};
+use crate::errors::{Kind, config_error, logo_error, raised, value_error};
 use crate::python_env::{PyEnvMaker, Raised};
 
 /// Lines go to `say` (a Python callable). Python's pending signals are checked after each
@@ -59,7 +58,7 @@ fn choice<T: ValueEnum>(key: &str, value: Option<&str>) -> PyResult<Option<T>> {
                     .filter_map(|v| v.to_possible_value())
                     .map(|p| p.get_name().to_string())
                     .collect();
-                PyValueError::new_err(format!(
+                value_error(format!(
                     "{key}={text:?}: expected one of {}",
                     names.join(", ")
                 ))
@@ -72,8 +71,8 @@ fn choice<T: ValueEnum>(key: &str, value: Option<&str>) -> PyResult<Option<T>> {
 /// `TrainConfig::load_with` reads a file: from `path` with the table laid over it, or the
 /// table alone (`origin` names it in errors, relative paths are taken from `base`).
 fn config(path: Option<PathBuf>, table_json: &str, base: PathBuf) -> PyResult<TrainConfig> {
-    let mut json: serde_json::Value = serde_json::from_str(table_json)
-        .map_err(|e| PyValueError::new_err(format!("config keys: {e}")))?;
+    let mut json: serde_json::Value =
+        serde_json::from_str(table_json).map_err(|e| value_error(format!("config keys: {e}")))?;
     // A top-level None takes the key out of the config (guidance=None: TRPO alone).
     let mut removed = Vec::new();
     if let Some(map) = json.as_object_mut() {
@@ -88,9 +87,7 @@ fn config(path: Option<PathBuf>, table_json: &str, base: PathBuf) -> PyResult<Tr
     let table: toml::Table = toml::Value::try_from(json)
         .ok()
         .and_then(|v| v.as_table().cloned())
-        .ok_or_else(|| {
-            PyValueError::new_err("config keys: a TOML table (no None values) was expected")
-        })?;
+        .ok_or_else(|| value_error("config keys: a TOML table (no None values) was expected"))?;
     match &path {
         Some(path) => TrainConfig::load_edited(path, table.clone(), &removed).map_err(|e| {
             // Where the file alone is a good config, the call's keyword arguments are what
@@ -177,6 +174,15 @@ pub fn train(
     }
 }
 
+/// A config file's keys as JSON, read as `logo train` reads the file: a file that is not
+/// there, or not TOML, raises the same error (naming the file and the line) with or
+/// without `env=`.
+#[pyfunction]
+pub fn config_keys(path: PathBuf) -> PyResult<String> {
+    let table = TrainConfig::read_table(&path).map_err(|e| config_error(&e, e.to_string()))?;
+    serde_json::to_string(&table).map_err(|e| value_error(format!("{}: {e}", path.display())))
+}
+
 /// `logo train`'s default run folder, `runs/<config name>-seed<seed>` (`run` for a dict),
 /// for Python too (the list-of-trajectories demos are written into it before training).
 #[pyfunction]
@@ -210,7 +216,7 @@ pub struct SpecArg {
 /// Registers a Python env's maker under its spec's id.
 fn register(make: Py<PyAny>, spec: SpecArg, raised: Raised) -> PyResult<Registered> {
     if spec.action_low.len() != spec.act_dim || spec.action_high.len() != spec.act_dim {
-        return Err(PyValueError::new_err(format!(
+        return Err(value_error(format!(
             "{}: action bounds of {} and {} values for {} actions",
             spec.id,
             spec.action_low.len(),
@@ -229,8 +235,7 @@ fn register(make: Py<PyAny>, spec: SpecArg, raised: Raised) -> PyResult<Register
         dt: spec.dt,
     };
     let maker: Arc<dyn EnvMaker> = Arc::new(PyEnvMaker { make, spec, raised });
-    logo_envs::register_external(maker.clone())
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    logo_envs::register_external(maker.clone()).map_err(|e| value_error(e.to_string()))?;
     Ok(Registered(maker))
 }
 
@@ -264,7 +269,7 @@ pub fn bc(
 ) -> PyResult<(PathBuf, String)> {
     let success: SuccessRule = success
         .parse()
-        .map_err(|e: String| PyValueError::new_err(format!("success={e}")))?;
+        .map_err(|e: String| value_error(format!("success={e}")))?;
     let engine = EngineArgs {
         engine: choice::<EngineKind>("engine", engine)?,
         backend: choice::<BackendKind>("backend", backend)?,
@@ -284,7 +289,7 @@ pub fn bc(
     logo_algo::validate::check_widths("hidden", &hidden)
         .map_err(|e| raised(Kind::Value, e.to_string()))?;
     if episodes == 0 {
-        return Err(PyValueError::new_err("episodes must be at least 1"));
+        return Err(value_error("episodes must be at least 1"));
     }
     let raised = Raised::default();
     let _registered = env

@@ -5,11 +5,10 @@ use logo_envs::VecEnv;
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods,
 };
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::env::factory;
-use crate::errors::env_error;
+use crate::errors::{env_error, value_error};
 
 /// Not shared between Python threads; each step runs on the env's own worker threads.
 #[pyclass(unsendable, module = "logo_rl._logo_rl")]
@@ -104,7 +103,7 @@ impl RustVecEnv {
     ) -> PyResult<Arrays<'py>> {
         let (n, act_dim) = (self.venv.num_envs(), self.venv.spec().act_dim);
         if actions.shape() != [n, act_dim] {
-            return Err(PyValueError::new_err(format!(
+            return Err(value_error(format!(
                 "actions of shape {:?}; {} x {n} takes [{n}, {act_dim}]",
                 actions.shape(),
                 self.venv.spec().id
@@ -113,7 +112,7 @@ impl RustVecEnv {
         // A copy: Python may write the array while the GIL is released.
         let actions = actions
             .as_slice()
-            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .map_err(|e| value_error(e.to_string()))?
             .to_vec();
         let venv = &mut self.venv;
         let out = py

@@ -121,3 +121,123 @@ def test_errors_are_typed_python_exceptions_under_logo_error(tmp_path):
         assert isinstance(raised.value, logo_rl.LogoError), (words, type(raised.value))
         assert type(raised.value) is logo_kind, (words, type(raised.value))
     assert not any((tmp_path / name).exists() for name in "abc")
+
+
+# Mistakes answered before any work is done, in the user's words: each of these failed
+# late or unclearly before (the issue of a robot's task from Python).
+
+
+class _OldGymReset(gym.Env):
+    """An env on the old gym API: reset returns the observation alone, step four values."""
+
+    observation_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float64)
+    action_space = gym.spaces.Box(-1.0, 1.0, (1,), np.float64)
+
+    def __init__(self, new_reset=False):
+        self.new_reset = new_reset
+
+    def reset(self, *, seed=None, options=None):
+        obs = np.zeros(2)
+        return (obs, {}) if self.new_reset else obs
+
+    def step(self, action):
+        return np.zeros(2), 0.0, False, {}
+
+
+def _limited(env, steps=20):
+    def make():
+        return gym.wrappers.TimeLimit(env(), steps)
+    return make
+
+
+def test_a_one_argument_success_predicate_is_refused_before_any_iteration(tmp_path):
+    for call in (
+        lambda: logo_rl.train("new-task", env=TASK, demos=None, success=lambda obs: obs[0] > 0.45,
+                              out=tmp_path / "run", **short()),
+        lambda: logo_rl.bc(tmp_path / "nowhere", env=TASK, success=lambda obs: True),
+        lambda: logo_rl.record(TASK, pump, 1, tmp_path / "d", success=lambda obs: True),
+    ):
+        with pytest.raises(logo_rl.LogoTypeError, match=r"success=.*\(obs, info\)") as raised:
+            call()
+        assert isinstance(raised.value, TypeError)
+    assert not (tmp_path / "run").exists() and not (tmp_path / "d").exists()
+
+
+def test_an_env_on_the_old_gym_api_is_named_at_its_first_reset_and_step(tmp_path):
+    with pytest.raises(logo_rl.LogoTypeError, match=r"reset returned .*\(obs, info\)"):
+        logo_rl.record(_limited(_OldGymReset), pump, 1, tmp_path / "a")
+    with pytest.raises(logo_rl.LogoTypeError, match=r"step returned 4 values.*five values"):
+        logo_rl.record(_limited(lambda: _OldGymReset(new_reset=True)), pump, 1, tmp_path / "b")
+    with pytest.raises(logo_rl.LogoTypeError, match=r"old gym API"):
+        logo_rl.train("trpo/inverted_double_pendulum", env=_limited(_OldGymReset),
+                      out=tmp_path / "c", **short())
+
+
+def test_a_config_given_with_env_is_read_as_without_it(tmp_path):
+    broken = tmp_path / "broken.toml"
+    broken.write_text("samples_per_iter = 500\n[guidance\ndelta0 = 0.1\n")
+    for path, kind, words in (
+        (broken, logo_rl.LogoValueError, "broken.toml"),
+        (tmp_path / "missing.toml", logo_rl.LogoFileNotFoundError, "missing.toml"),
+    ):
+        messages = []
+        for env in (None, TASK):
+            with pytest.raises(kind, match=words) as raised:
+                logo_rl.train(path, env=env, progress=False)
+            messages.append(str(raised.value))
+        assert messages[0] == messages[1], messages
+
+
+def test_a_controllers_action_of_the_wrong_size_is_refused_at_its_first_step(tmp_path):
+    played = []
+
+    def three(obs):
+        played.append(obs)
+        return [0.0, 0.0, 0.0]
+
+    with pytest.raises(logo_rl.LogoValueError,
+                       match=r"episode 0, step 0: the controller returned 3 .* has 1"):
+        logo_rl.record(TASK, three, 5, tmp_path / "d")
+    assert len(played) == 1
+
+
+def test_an_action_space_without_width_is_refused(tmp_path):
+    class Pinned(gym.Wrapper):
+        def __init__(self, env):
+            super().__init__(env)
+            self.action_space = gym.spaces.Box(np.array([0.5]), np.array([0.5]), dtype=np.float64)
+
+    with pytest.raises(logo_rl.LogoValueError, match="no width in dimension 0"):
+        logo_rl.train("new-task", env=lambda: Pinned(gym.make(TASK)), guidance=None,
+                      out=tmp_path / "r", **short())
+
+
+def test_load_of_a_folder_lists_the_policy_files_it_holds(tmp_path):
+    run = logo_rl.train("trpo/inverted_double_pendulum", out=tmp_path / "run", **short())
+    with pytest.raises(logo_rl.LogoValueError,
+                       match=r"is a folder.*best\.safetensors.*checkpoint\.safetensors"):
+        logo_rl.load(run.path)
+    with pytest.raises(logo_rl.LogoValueError, match="no policy file"):
+        logo_rl.load(tmp_path)
+
+
+def test_record_takes_the_success_predicate_train_takes(tmp_path):
+    at_flag = lambda obs, info: obs[0] >= 0.45  # noqa: E731
+    rec = logo_rl.record(TASK, pump, 2, tmp_path / "a", success=at_flag)
+    assert rec.success_rate == 1.0
+    rec = logo_rl.record(TASK, pump, 2, tmp_path / "b", success="terminated")
+    assert rec.success_rate == 1.0
+    rec = logo_rl.record(TASK, lambda obs: [0.0], 1, tmp_path / "c", success="terminated")
+    assert rec.success_rate == 0.0
+    with pytest.raises(logo_rl.LogoValueError, match="success='sometimes'"):
+        logo_rl.record(TASK, pump, 1, tmp_path / "e", success="sometimes")
+
+
+def test_errors_raised_in_rust_are_the_packages_own(tmp_path):
+    run = logo_rl.train("trpo/inverted_double_pendulum", out=tmp_path / "run", **short())
+    policy = logo_rl.load(run.checkpoint)
+    with pytest.raises(logo_rl.LogoValueError) as raised:
+        policy.predict(np.zeros(3))
+    assert isinstance(raised.value, ValueError)
+    with pytest.raises(logo_rl.LogoValueError):
+        logo_rl.LogoEnv("InvertedDoublePendulum-v4").set_state(np.zeros(2), np.zeros(2))

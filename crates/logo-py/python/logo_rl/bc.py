@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
+from ._errors import LogoTypeError, LogoValueError
 from . import _logo_rl
 from .custom import demos_path, prepare
 from .policy import Policy
@@ -74,23 +75,23 @@ def bc(
     """
     for name, value in (("epochs", epochs), ("minibatch", minibatch), ("episodes", episodes)):
         if not isinstance(value, int) or isinstance(value, bool):
-            raise TypeError(f"{name}={value!r}: expected an integer")
+            raise LogoTypeError(f"{name}={value!r}: expected an integer")
         if value < 1:
-            raise ValueError(f"{name}={value}: expected at least 1")
+            raise LogoValueError(f"{name}={value}: expected at least 1")
     hidden = list(hidden)
     if not all(isinstance(h, int) and not isinstance(h, bool) for h in hidden):
-        raise TypeError(f"hidden={hidden!r}: expected a sequence of integers")
+        raise LogoTypeError(f"hidden={hidden!r}: expected a sequence of integers")
     if callable(success):
         if isinstance(env, str) and env in _logo_rl.env_ids():
-            raise ValueError(
+            raise LogoValueError(
                 "success= as a callable judges the steps of a Gymnasium env; logo-rl's own "
                 f"env {env!r} takes success = \"task\", \"terminated\" or \"none\""
             )
         env, success = judged(env, success), "task"
     elif not isinstance(success, str):
-        raise TypeError(f"success={success!r}: expected a string or a callable")
+        raise LogoTypeError(f"success={success!r}: expected a string or a callable")
     elif success not in ("task", "terminated", "none"):
-        raise ValueError(f"success={success!r}: expected task, terminated or none, or a "
+        raise LogoValueError(f"success={success!r}: expected task, terminated or none, or a "
                          "callable (obs, info) -> bool")
     python_env = None
     if isinstance(env, str) and env in _logo_rl.env_ids():

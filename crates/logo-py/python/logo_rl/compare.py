@@ -12,6 +12,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from ._errors import LogoValueError
 from . import _logo_rl
 from .run import _plain, train
 from .presets import preset_path
@@ -55,15 +56,15 @@ def compare(
     algorithms = list(algorithms)
     unknown = [a for a in algorithms if a not in METHODS]
     if unknown or not algorithms:
-        raise ValueError(f"algorithms={algorithms!r}: expected some of {', '.join(METHODS)}")
+        raise LogoValueError(f"algorithms={algorithms!r}: expected some of {', '.join(METHODS)}")
     seed_list = list(range(seeds)) if isinstance(seeds, int) else list(seeds)
     if not seed_list or not all(isinstance(s, int) and s >= 0 for s in seed_list):
-        raise ValueError(f"seeds={seeds!r}: expected a count or a list of seeds ≥ 0")
+        raise LogoValueError(f"seeds={seeds!r}: expected a count or a list of seeds ≥ 0")
     if not (isinstance(reps, int) and reps >= 1):
-        raise ValueError(f"reps={reps!r}: expected an integer ≥ 1")
+        raise LogoValueError(f"reps={reps!r}: expected an integer ≥ 1")
     columns = _logo_rl.metric_columns()
     if metric not in columns:
-        raise ValueError(f"metric={metric!r}: not a numeric column of metrics.csv; "
+        raise LogoValueError(f"metric={metric!r}: not a numeric column of metrics.csv; "
                          f"expected one of {', '.join(columns)}")
     path, table, name = _config_arg(config)
     out = Path(out) if out is not None else Path("runs") / f"compare-{name}"
@@ -103,7 +104,7 @@ def _value(toml_text: str, key: str) -> int:
     for line in toml_text.splitlines():
         if line.startswith(f"{key} = "):
             return int(line.split("=", 1)[1])
-    raise ValueError(f"the made config has no {key}")
+    raise LogoValueError(f"the made config has no {key}")
 
 
 def _train_once(config: Path, run_dir: Path, seed: int, iterations: int, common: dict) -> None:
@@ -128,7 +129,7 @@ def _value_at(run_dir: Path, budget: float, metric: str) -> float:
     rows = _metrics(run_dir)
     x = np.array([float(r["samples"]) for r in rows])
     if not rows or x[-1] < budget:
-        raise ValueError(f"{run_dir}: the run stops before {budget:.0f} samples")
+        raise LogoValueError(f"{run_dir}: the run stops before {budget:.0f} samples")
     y = np.array([float(r[metric]) for r in rows])
     keep = ~np.isnan(y)
     return float(np.interp(budget, x[keep], y[keep]))

@@ -12,6 +12,7 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium.wrappers import TimeLimit
 
+from ._errors import LogoFileNotFoundError, LogoTypeError, LogoValueError
 from ._logo_rl import EXTERNAL_PREFIX as PREFIX  # the ids of envs the caller brings
 
 
@@ -24,43 +25,55 @@ class _Adapter:
     def _obs(self, obs, where: str) -> np.ndarray:
         array = np.asarray(obs, dtype=np.float64).reshape(-1)
         if array.shape != (self.obs_dim,):
-            raise ValueError(
+            raise LogoValueError(
                 f"{self.name}: {where} returned an observation of shape {np.shape(obs)}, "
                 f"expected ({self.obs_dim},)"
             )
         bad = np.flatnonzero(~np.isfinite(array))
         if bad.size:
-            raise ValueError(
+            raise LogoValueError(
                 f"{self.name}: {where} returned an observation with {array[bad[0]]} at index {bad[0]}"
             )
         return np.ascontiguousarray(array)
 
     def reset(self, seed: int | None):
-        obs, info = self.env.reset(seed=None if seed is None else int(seed) % (1 << 63))
+        result = self.env.reset(seed=None if seed is None else int(seed) % (1 << 63))
+        if not (isinstance(result, tuple) and len(result) == 2 and isinstance(result[1], dict)):
+            raise _old_api(self.name, f"reset returned {_described(result)}, not (obs, info)")
+        obs, info = result
         x = float(info.get("x_position", 0.0))
         if not np.isfinite(x):
-            raise ValueError(f"{self.name}: reset returned info['x_position'] = {x}")
+            raise LogoValueError(f"{self.name}: reset returned info['x_position'] = {x}")
         return self._obs(obs, "reset"), x
 
     def step(self, action: np.ndarray):
-        obs, reward, terminated, truncated, info = self.env.step(action)
+        try:
+            result = self.env.step(action)
+        except ValueError as error:
+            # A wrapper of Gymnasium's (TimeLimit) unpacks the inner env's step first.
+            if "values to unpack (expected 5, got 4)" in str(error):
+                raise _old_api(self.name, "step returned 4 values") from error
+            raise
+        if not (isinstance(result, tuple) and len(result) == 5):
+            raise _old_api(self.name, f"step returned {_described(result)}")
+        obs, reward, terminated, truncated, info = result
         if np.ndim(reward) != 0:
-            raise TypeError(
+            raise LogoTypeError(
                 f"{self.name}: step returned the reward {reward!r} of shape {np.shape(reward)}; "
                 "a reward is one number (return float(reward))"
             )
         reward = float(reward)
         if not np.isfinite(reward):
-            raise ValueError(f"{self.name}: step returned the reward {reward}")
+            raise LogoValueError(f"{self.name}: step returned the reward {reward}")
         dense = float(info.get("dense_reward", reward))
         x = float(info.get("x_position", 0.0))
         for key, value in (("dense_reward", dense), ("x_position", x)):
             if not np.isfinite(value):
-                raise ValueError(f"{self.name}: step returned info[{key!r}] = {value}")
+                raise LogoValueError(f"{self.name}: step returned info[{key!r}] = {value}")
         success = info.get("is_success", info.get("success"))
         if success is not None:
             if np.size(success) != 1:
-                raise ValueError(
+                raise LogoValueError(
                     f"{self.name}: step returned info['is_success'] = {success!r}, expected a bool"
                 )
             success = bool(np.asarray(success).reshape(-1)[0])
@@ -68,6 +81,21 @@ class _Adapter:
 
     def close(self) -> None:
         self.env.close()
+
+
+def _described(value) -> str:
+    """What an env's reset or step returned, in a few words."""
+    if isinstance(value, tuple):
+        return f"{len(value)} values"
+    return f"{type(value).__name__} {np.shape(value) if hasattr(value, 'shape') else ''}".strip()
+
+
+def _old_api(name: str, what: str) -> LogoTypeError:
+    return LogoTypeError(
+        f"{name}: {what}; it looks written for the old gym API. Gymnasium's reset returns "
+        "(obs, info) and its step five values, (obs, reward, terminated, truncated, info): "
+        "port the env to them, or wrap it with shimmy's GymV21CompatibilityV0"
+    )
 
 
 def _time_limit(env: gym.Env) -> int | None:
@@ -83,7 +111,7 @@ def prepare(env: str | Callable[[], gym.Env]) -> tuple[Callable[[], _Adapter], d
     """The maker of adapted copies of `env` (a Gymnasium id, or a callable returning a new
     env) and the spec the Rust side needs; raises on what the trainer cannot take."""
     if isinstance(env, gym.Env):
-        raise TypeError(
+        raise LogoTypeError(
             "env= takes a Gymnasium id or a callable returning a new env (the trainer makes "
             "several copies), not an env instance: env=lambda: MyEnv()"
         )
@@ -94,27 +122,34 @@ def prepare(env: str | Callable[[], gym.Env]) -> tuple[Callable[[], _Adapter], d
         if label == "<lambda>":
             label = "env"
     else:
-        raise TypeError(f"env={env!r}: expected a Gymnasium id or a callable returning an env")
+        raise LogoTypeError(f"env={env!r}: expected a Gymnasium id or a callable returning an env")
     name = PREFIX + re.sub(r"[^A-Za-z0-9_.+()-]", "_", label)
     probe = make()
     try:
         obs_space, act_space = probe.observation_space, probe.action_space
         for what, space in (("observation", obs_space), ("action", act_space)):
             if not isinstance(space, spaces.Box) or len(space.shape) != 1:
-                raise TypeError(
+                raise LogoTypeError(
                     f"{label}: its {what} space is {space}; logo-rl trains on flat Box "
                     "observation and action spaces"
                 )
         steps = _time_limit(probe)
         if steps is None:
-            raise ValueError(
+            raise LogoValueError(
                 f"{label} never ends an episode (no TimeLimit): batches are whole episodes; "
                 "wrap it, gymnasium.wrappers.TimeLimit(env, max_episode_steps=1000), or "
                 "register it with max_episode_steps"
             )
         low, high = act_space.low.astype(np.float64), act_space.high.astype(np.float64)
         if np.isnan(low).any() or np.isnan(high).any() or (low > high).any():
-            raise ValueError(f"{label}: its action space's bounds {low}, {high} are not a range")
+            raise LogoValueError(f"{label}: its action space's bounds {low}, {high} are not a range")
+        flat = np.flatnonzero(low == high)
+        if flat.size:
+            raise LogoValueError(
+                f"{label}: its action space has no width in dimension {flat[0]} (low = high = "
+                f"{low[flat[0]]}): a Gaussian policy's actions there would fall outside it; "
+                "leave that dimension out of the action space and set it in the env"
+            )
         spec = {
             "id": name,
             "obs_dim": int(obs_space.shape[0]),
@@ -144,21 +179,21 @@ def demos_path(demos: Any, out: Path, obs_dim: int, act_dim: int) -> str:
     if isinstance(demos, (str, os.PathLike)) and Path(demos).exists():
         return str(Path(demos).resolve())
     if isinstance(demos, os.PathLike) or (isinstance(demos, str) and _looks_like_a_path(demos)):
-        raise FileNotFoundError(f"demos={os.fspath(demos)!r}: no such file or folder")
+        raise LogoFileNotFoundError(f"demos={os.fspath(demos)!r}: no such file or folder")
     if isinstance(demos, str) or hasattr(demos, "storage"):
         if isinstance(demos, str):
             # Not a path here: a Minari id, looked up among Minari's local datasets.
             try:
                 import minari
             except ImportError:
-                raise FileNotFoundError(
+                raise LogoFileNotFoundError(
                     f"demos={demos!r}: no such file or folder (nor a Minari dataset id: the "
                     "minari package, which would look one up, is not installed)"
                 ) from None
             try:
                 demos = minari.load_dataset(demos)
             except Exception as error:  # minari's own error names what it looked for
-                raise FileNotFoundError(
+                raise LogoFileNotFoundError(
                     f"demos={demos!r}: no such file or folder, nor a local Minari dataset "
                     f"({error})"
                 ) from None
@@ -173,12 +208,12 @@ def demos_path(demos: Any, out: Path, obs_dim: int, act_dim: int) -> str:
             obs = np.asarray(obs, dtype=np.float64)
             actions = np.asarray(actions, dtype=np.float64).reshape(len(actions), -1)
             if obs.ndim != 2 or obs.shape[1] != obs_dim or actions.shape[1] != act_dim:
-                raise ValueError(
+                raise LogoValueError(
                     f"demos[{i}]: observations {obs.shape} and actions {actions.shape}; "
                     f"the env's are [steps, {obs_dim}] and [steps, {act_dim}]"
                 )
             if len(obs) not in (len(actions), len(actions) + 1):
-                raise ValueError(
+                raise LogoValueError(
                     f"demos[{i}]: {len(obs)} observations for {len(actions)} actions"
                 )
             rows.append(np.concatenate([obs[: len(actions)], actions], axis=1))
@@ -186,7 +221,7 @@ def demos_path(demos: Any, out: Path, obs_dim: int, act_dim: int) -> str:
         path = out / "demonstrations.npy"
         np.save(path, np.concatenate(rows) if rows else np.zeros((0, obs_dim + act_dim)))
         return str(path.resolve())
-    raise TypeError(
+    raise LogoTypeError(
         f"demos={type(demos).__name__}: expected a Minari dataset (a folder, an id, the "
         "dataset), a .npy path, or a list of (observations, actions) trajectories"
     )

@@ -8,6 +8,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from ._errors import LogoValueError
 from ._logo_rl import RustEnv, time_limit, env_ids
 
 NAMESPACE = "logo_rl"
@@ -25,7 +26,7 @@ def rust_limit(max_episode_steps: int | str | None) -> int | None:
     if max_episode_steps is None:
         return NO_LIMIT
     if isinstance(max_episode_steps, str):
-        raise ValueError(
+        raise LogoValueError(
             f"max_episode_steps={max_episode_steps!r}: expected 'task', None or a number of steps"
         )
     return max_episode_steps
@@ -59,7 +60,7 @@ class LogoEnv(gym.Env):
         height: int = DEFAULT_SIZE,
     ):
         if render_mode not in (None, "rgb_array"):
-            raise ValueError(f"render_mode={render_mode!r}: logo_rl envs render 'rgb_array' only")
+            raise LogoValueError(f"render_mode={render_mode!r}: logo_rl envs render 'rgb_array' only")
         self._env = RustEnv(env_id, rust_limit(max_episode_steps))
         self.last_goal_distance = float("nan")  # the last step's, for the goal kind
         self.env_id = self._env.id
@@ -90,7 +91,7 @@ class LogoEnv(gym.Env):
     def step(self, action):
         action = np.asarray(action, dtype=np.float64).reshape(-1)
         if action.shape != (self._env.act_dim,):
-            raise ValueError(
+            raise LogoValueError(
                 f"action of {action.size} values; {self.env_id} takes {self._env.act_dim}"
             )
         obs, reward, terminated, truncated, dense, x, goal, success = self._env.step(action)

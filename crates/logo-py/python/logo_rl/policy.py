@@ -6,6 +6,7 @@ import os
 
 import numpy as np
 
+from ._errors import LogoValueError
 from ._logo_rl import Policy as _RustPolicy
 
 
@@ -18,6 +19,8 @@ class Policy:
     """
 
     def __init__(self, checkpoint: str | os.PathLike):
+        if os.path.isdir(checkpoint):
+            raise LogoValueError(_folder_message(os.fspath(checkpoint)))
         self._policy = _RustPolicy(os.fspath(checkpoint))
 
     def __repr__(self) -> str:
@@ -68,7 +71,7 @@ class Policy:
         single = obs.ndim == 1
         batch = np.ascontiguousarray(obs.reshape(1, -1) if single else obs)
         if batch.ndim != 2:
-            raise ValueError(f"observations of shape {obs.shape}: expected [obs_dim] or [rows, obs_dim]")
+            raise LogoValueError(f"observations of shape {obs.shape}: expected [obs_dim] or [rows, obs_dim]")
         actions = self._policy.mean(batch)
         if not deterministic:
             rng = np.random.default_rng() if rng is None else rng
@@ -91,6 +94,25 @@ class Policy:
             state["observation_mean"] = self.observation_norm["mean"]
             state["observation_var"] = self.observation_norm["var"]
         return state
+
+
+# What each policy file of a run or a clone's folder is.
+POLICY_FILES = {
+    "checkpoint.safetensors": "the final policy",
+    "best.safetensors": "the policy whose evaluation earned the most",
+    "policy.safetensors": "a behaviour clone (logo_rl.bc)",
+}
+
+
+def _folder_message(folder: str) -> str:
+    """What to load from a folder given in place of a policy file."""
+    held = sorted(name for name in os.listdir(folder) if name.endswith(".safetensors"))
+    if not held:
+        return (f"{folder} is a folder with no policy file (*.safetensors) in it: load() "
+                "takes a checkpoint file, e.g. runs/<run>/best.safetensors")
+    listed = ", ".join(f"{name} ({POLICY_FILES.get(name, 'a policy file')})" for name in held)
+    return (f"{folder} is a folder: load() takes one of its policy files, "
+            f"{os.path.join(folder, held[0])}; it holds {listed}")
 
 
 def load(checkpoint: str | os.PathLike) -> Policy:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from ._errors import LogoValueError
 from . import _logo_rl
 
 
@@ -33,7 +34,7 @@ def preset_path(name: str) -> Path:
     paths = {n: path for n, path, _ in _logo_rl.presets()}
     if name not in paths:
         known = ", ".join(sorted(paths))
-        raise ValueError(f"{name!r} is not a preset; logo_rl.presets() lists them: {known}")
+        raise LogoValueError(f"{name!r} is not a preset; logo_rl.presets() lists them: {known}")
     root = cache_root()
     for inside, data in _logo_rl.preset_data():
         _write_once(root / inside, data)

@@ -10,10 +10,12 @@ from typing import Any, Callable
 
 import numpy as np
 
+from ._errors import LogoValueError
 from ._logo_rl import read_dataset as _read_dataset
 from ._logo_rl import write_dataset
 from .custom import PREFIX, prepare
 from .policy import Policy
+from .wrappers import judged
 
 
 @dataclass(frozen=True)
@@ -46,6 +48,7 @@ def record(
     dataset_id: str | None = None,
     seed: int = 0,
     deterministic: bool = False,
+    success: str | Callable[[Any, dict], bool] = "task",
 ) -> Recording:
     """Plays ``episodes`` episodes of ``env`` (a Gymnasium id or a callable returning a new
     env) with ``act`` and writes them as a Minari dataset folder at ``path``
@@ -60,9 +63,21 @@ def record(
     recorded, unless ``deterministic``) or any callable from an observation to an action
     (a controller of your own). Episode k starts from ``reset(seed=seed + k)``. The
     rewards stored are the env's own (a sparse env's sparse ones).
+
+    ``success``: which episodes reached the goal, as :func:`logo_rl.train` takes it:
+    ``"task"`` (any step's ``info["is_success"]``), ``"terminated"`` (the episode ended
+    there), ``"none"``, or a callable ``(obs, info) -> bool`` judging each step.
     """
     if episodes < 1:
-        raise ValueError(f"episodes={episodes}: at least 1")
+        raise LogoValueError(f"episodes={episodes}: at least 1")
+    if callable(success):
+        env = judged(env, success)  # checks the predicate's arguments first
+        success = "task"
+    elif success not in ("task", "terminated", "none"):
+        raise LogoValueError(
+            f"success={success!r}: expected 'task', 'terminated', 'none' or a callable "
+            "(obs, info) -> bool"
+        )
     make, spec = prepare(env)  # the same checks as training: Box spaces, a time limit
     adapter = make()
     rng = np.random.default_rng(seed)
@@ -78,9 +93,17 @@ def record(
             episode_reached = None
             while True:
                 action = np.asarray(act(obs), dtype=np.float64).reshape(-1)
-                obs, reward, terminated, truncated, _, _, success = adapter.step(action)
-                if success is not None:
-                    episode_reached = bool(episode_reached) or success
+                if action.shape != (spec["act_dim"],):
+                    raise LogoValueError(
+                        f"episode {k}, step {len(actions)}: the controller returned "
+                        f"{action.size} action values; the action space "
+                        f"({action_space}) has {spec['act_dim']}"
+                    )
+                obs, reward, terminated, truncated, _, _, reached_here = adapter.step(action)
+                if success == "terminated":
+                    reached_here = bool(terminated)
+                if reached_here is not None and success != "none":
+                    episode_reached = bool(episode_reached) or reached_here
                 observations.append(obs)
                 actions.append(action)
                 rewards.append(reward)
@@ -96,8 +119,8 @@ def record(
     finally:
         adapter.close()
     returns = np.array([float(np.sum(episode[2])) for episode in played])
-    judged = [r for r in reached if r is not None]
-    success_rate = sum(judged) / len(judged) if judged else None
+    known = [r for r in reached if r is not None]
+    success_rate = sum(known) / len(known) if known else None
     path = Path(path)
     summary = {
         "return_mean": float(returns.mean()),

@@ -15,6 +15,7 @@ try:
 except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
+from ._errors import LogoFileNotFoundError, LogoTypeError, LogoValueError
 from . import _logo_rl
 from .custom import PREFIX, demos_path, prepare
 from .policy import Policy
@@ -28,7 +29,7 @@ class Run:
     def __init__(self, path: str | os.PathLike):
         self.path = Path(path)
         if not (self.path / "metrics.csv").is_file():
-            raise FileNotFoundError(f"{self.path}: no metrics.csv (not a logo-rl run folder)")
+            raise LogoFileNotFoundError(f"{self.path}: no metrics.csv (not a logo-rl run folder)")
 
     def __repr__(self) -> str:
         return f"Run({str(self.path)!r})"
@@ -72,7 +73,7 @@ class Run:
         """The run's ``final`` (checkpoint) or ``best`` policy."""
         files = {"final": self.checkpoint, "best": self.best}
         if which not in files:
-            raise ValueError(f"which={which!r}: expected 'final' or 'best'")
+            raise LogoValueError(f"which={which!r}: expected 'final' or 'best'")
         return Policy(files[which])
 
 
@@ -131,7 +132,7 @@ def train(
     elif callable(progress):
         say = progress
     else:
-        raise TypeError(f"progress={progress!r}: expected True, False or a callable")
+        raise LogoTypeError(f"progress={progress!r}: expected True, False or a callable")
     common = dict(say=say, engine=engine, backend=backend, dtype=dtype, tensorboard=tensorboard)
     python_env = None
     predicate = overrides.get("success")
@@ -139,7 +140,7 @@ def train(
         # A predicate of the caller's judges a Python env's steps: the env is wrapped and
         # the run reads its is_success as the task's.
         if env is None:
-            raise ValueError(
+            raise LogoValueError(
                 "success= as a callable judges the steps of env=: give env= too (a config's "
                 "own env takes success = \"task\", \"terminated\" or \"none\")"
             )
@@ -149,13 +150,13 @@ def train(
             overrides["success"] = "task"
     if resume is not None:
         if config is not None or overrides or demos is not None:
-            raise ValueError(
+            raise LogoValueError(
                 "resume continues a run with its own config: drop config, demos and overrides"
             )
         if env is not None:
             saved = _saved_env_id(Path(resume))
             if saved is None:
-                raise ValueError(
+                raise LogoValueError(
                     f"{resume} is not a run on a Python env: resume it without env= "
                     "(its env is one of logo-rl's, named in its config.toml)"
                 )
@@ -165,12 +166,12 @@ def train(
         )
         return Run(path)
     if config is None:
-        raise ValueError("train needs a config (a preset, a TOML file or a dict) or resume=")
+        raise LogoValueError("train needs a config (a preset, a TOML file or a dict) or resume=")
     if isinstance(config, str) and not os.path.exists(config):
         if not config.endswith(".toml"):
             config = preset_path(config)  # raises, listing the presets, if it is none
     if "guidance" in overrides and overrides["guidance"] is None and demos is not None:
-        raise ValueError("demos= with guidance=None: without guidance no demonstrations are used")
+        raise LogoValueError("demos= with guidance=None: without guidance no demonstrations are used")
     table = _absolute_paths(dict(overrides))
     if iterations is not None:
         table["iterations"] = iterations
@@ -186,7 +187,7 @@ def train(
         # A Python env may raise at any step: every whole iteration keeps its checkpoint,
         # unless the config or the call says otherwise.
         if "checkpoint_every" not in table and (
-            path_arg is None or "checkpoint_every" not in tomllib.loads(Path(path_arg).read_text())
+            path_arg is None or "checkpoint_every" not in _config_keys(path_arg)
         ):
             table["checkpoint_every"] = 1
         if demos is not None:
@@ -194,7 +195,7 @@ def train(
             where = demos_path(demos, run_dir, spec["obs_dim"], spec["act_dim"])
             table = _lay_over(table, {"guidance": {"demos": where}})
     elif demos is not None:
-        raise ValueError("demos= goes with env= (a config's own env has its demos in the config)")
+        raise LogoValueError("demos= goes with env= (a config's own env has its demos in the config)")
     path = _logo_rl.train(
         config=path_arg,
         table_json=json.dumps(table, default=_plain),
@@ -219,7 +220,7 @@ def _plain(value: Any) -> Any:
         return os.fspath(value)
     if isinstance(value, (np.generic, np.ndarray)):
         return value.tolist()
-    raise TypeError(f"config value {value!r} of type {type(value).__name__}: not a TOML value")
+    raise LogoTypeError(f"config value {value!r} of type {type(value).__name__}: not a TOML value")
 
 
 PATH_KEYS = {
@@ -260,8 +261,15 @@ def _run_dir_for(config, table: Mapping[str, Any]) -> Path:
         path, seed = None, table.get("seed", config.get("seed", 0))
     else:
         path = os.fspath(config)
-        seed = table.get("seed", tomllib.loads(Path(config).read_text()).get("seed", 0))
+        seed = table.get("seed", _config_keys(path).get("seed", 0))
     return Path(_logo_rl.run_dir_for(path, int(seed)))
+
+
+def _config_keys(path: str) -> dict:
+    """A config file's keys, read by the Rust side as ``logo train`` reads it: a file
+    that is not there or not TOML raises the same LogoError, naming the file and the
+    line, as the same file gives without ``env=``."""
+    return json.loads(_logo_rl.config_keys(path))
 
 
 def _lay_over(under: dict, top: Mapping) -> dict:

@@ -10,6 +10,7 @@ from gymnasium import spaces
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from ._errors import LogoValueError
 from ._logo_rl import RustVecEnv
 from .envs import rust_limit
 
@@ -51,7 +52,7 @@ class LogoVectorEnv(VectorEnv):
         if seed is not None:
             self._np_random, self._np_random_seed = np.random.default_rng(seed), seed
             if seed < 0:
-                raise ValueError(f"seed={seed}: a seed is a non-negative integer")
+                raise LogoValueError(f"seed={seed}: a seed is a non-negative integer")
         return self._venv.reset(seed), {}
 
     def step(self, actions):

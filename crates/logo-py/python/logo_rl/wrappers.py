@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import inspect
 import math
 from typing import Any, Callable
 
 import gymnasium as gym
+
+from ._errors import LogoTypeError, LogoValueError
 
 KINDS = ("distance", "delayed", "goal")
 # The bodies whose distance in the plane Gymnasium's tasks with a target are scored on.
@@ -76,32 +79,32 @@ class SparseReward(gym.Wrapper):
     ):
         super().__init__(env)
         if kind not in KINDS:
-            raise ValueError(f"unknown sparse kind {kind!r}; the kinds are {', '.join(KINDS)}")
+            raise LogoValueError(f"unknown sparse kind {kind!r}; the kinds are {', '.join(KINDS)}")
         if kind == "distance":
             if threshold is None or not (float(threshold) > 0 and float(threshold) < float("inf")):
-                raise ValueError(
+                raise LogoValueError(
                     f"kind 'distance' needs a positive finite threshold (metres), got {threshold!r}"
                 )
             if position is None:
                 if not hasattr(env.unwrapped, "data"):
-                    raise ValueError(
+                    raise LogoValueError(
                         "kind 'distance' needs position= for an env that is not a Gymnasium "
                         "MuJoCo env (a callable of the env giving its position)"
                     )
                 position = _mujoco_x
         elif threshold is not None:
-            raise ValueError(f"kind {kind!r} takes no threshold")
+            raise LogoValueError(f"kind {kind!r} takes no threshold")
         if kind == "goal":
             if radius is None or not (float(radius) > 0 and float(radius) < float("inf")):
-                raise ValueError(f"kind 'goal' needs a positive finite radius (metres), got {radius!r}")
+                raise LogoValueError(f"kind 'goal' needs a positive finite radius (metres), got {radius!r}")
             goal_distance = goal_distance or _mujoco_goal_distance(env) or _info_goal_distance(env)
             if goal_distance is None:
-                raise ValueError(
+                raise LogoValueError(
                     "kind 'goal' needs goal_distance= for an env other than Gymnasium's Reacher "
                     "and Pusher (a callable of the env giving its distance to the target)"
                 )
         elif radius is not None:
-            raise ValueError(f"kind {kind!r} takes no radius")
+            raise LogoValueError(f"kind {kind!r} takes no radius")
         self.kind, self.threshold, self._position = kind, threshold, position
         self.radius, self._goal_distance = radius, goal_distance
         self._start = 0.0
@@ -145,8 +148,7 @@ class Success(gym.Wrapper):
 
     def __init__(self, env: gym.Env, predicate: Callable[[Any, dict], Any]):
         super().__init__(env)
-        if not callable(predicate):
-            raise TypeError(f"predicate={predicate!r}: expected a callable (obs, info) -> bool")
+        check_predicate(predicate, "predicate")
         self._predicate = predicate
 
     def step(self, action):
@@ -155,15 +157,38 @@ class Success(gym.Wrapper):
         try:
             reached = bool(verdict)
         except (TypeError, ValueError) as error:  # e.g. an array of several values
-            raise TypeError(
+            raise LogoTypeError(
                 f"the success predicate returned {verdict!r}, expected a bool"
             ) from error
         return obs, reward, terminated, truncated, {**info, "is_success": reached}
 
 
+def check_predicate(predicate, keyword: str = "success") -> None:
+    """Refuses, before any step, a success predicate that cannot be called as
+    ``predicate(obs, info)``."""
+    if not callable(predicate):
+        raise LogoTypeError(
+            f"{keyword}={predicate!r}: expected a callable (obs, info) -> bool"
+        )
+    try:
+        signature = inspect.signature(predicate)
+    except (TypeError, ValueError):
+        return  # a builtin without a signature: its first call says what is wrong
+    try:
+        signature.bind(None, None)
+    except TypeError:
+        name = getattr(predicate, "__name__", type(predicate).__name__)
+        raise LogoTypeError(
+            f"{keyword}={name}{signature}: the predicate is called after every step as "
+            f"{keyword}(obs, info) and must take both, e.g. lambda obs, info: obs[0] > 0.45 "
+            "(info is the step's info dict)"
+        ) from None
+
+
 def judged(env, predicate) -> Any:
     """``env`` (a Gymnasium id or a maker) made with a :class:`Success` wrapper of
     ``predicate``, under the same name: what ``success=`` as a callable does."""
+    check_predicate(predicate)
     if isinstance(env, str):
         make, name = (lambda: gym.make(env)), env
     elif callable(env) and not isinstance(env, gym.Env):
