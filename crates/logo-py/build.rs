@@ -12,25 +12,21 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// The table of methods, read for the folders of configs it names.
+#[path = "../logo-algo/src/methods.rs"]
+#[allow(dead_code)]
+mod methods;
+
 /// The config folders that become presets ("<folder>/<stem>"; templates/new_task.toml is
-/// "new-task").
-const FOLDERS: &[&str] = &[
-    "templates",
-    "logo",
-    "logo-fast",
-    "trpo",
-    "bc-trpo",
-    "dapg",
-    "gail",
-    "pofd",
-    "ppo",
-    "logo-ppo",
-    "logo-cdq",
-    "logo-ppo-cdq",
-    "logo-ppo-penalty",
-    "logo-clip-in-trpo",
-    "reference",
-];
+/// "new-task"): the templates, each method's that runs as a config, LOGO as the
+/// reference code computes it.
+fn folders() -> Vec<&'static str> {
+    let methods = methods::METHODS.iter().filter(|m| m.command.is_none());
+    std::iter::once("templates")
+        .chain(methods.map(|m| m.name))
+        .chain(["reference"])
+        .collect()
+}
 
 fn main() {
     println!("cargo::rustc-link-arg-cdylib=-Wl,-rpath,$ORIGIN/../mujoco");
@@ -38,7 +34,8 @@ fn main() {
     let root = root.canonicalize().expect("the repository root");
     let mut presets = String::new();
     let mut data: Vec<String> = Vec::new();
-    for folder in FOLDERS {
+    println!("cargo::rerun-if-changed=../logo-algo/src/methods.rs");
+    for folder in folders() {
         let dir = root.join("configs").join(folder);
         println!("cargo::rerun-if-changed={}", dir.display());
         let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -51,7 +48,7 @@ fn main() {
             println!("cargo::rerun-if-changed={}", file.display());
             let text = std::fs::read_to_string(&file).expect("a config");
             let stem = file.file_stem().unwrap().to_string_lossy();
-            let name = if *folder == "templates" {
+            let name = if folder == "templates" {
                 stem.replace('_', "-")
             } else {
                 format!("{folder}/{stem}")

@@ -1,128 +1,38 @@
-//! The algorithms logo-rl trains, one line each: what `logo algorithms` prints. Each is a
-//! configuration of the one trainer (a folder of `configs/` per task, and a preset a
-//! config names by `[algorithm] name`), or `logo bc`; [`configure`] makes each baseline
-//! from a LOGO config (`logo compare`).
+//! The methods of the table (`methods.rs`) as the trainer makes them: `logo algorithms`'
+//! lines, the methods `logo compare` can make from one LOGO config ([`configure`]), and
+//! the name of a config that does not say its own ([`identify`]: a config without
+//! `[algorithm]` or `method`, a run older than the name).
 
 use crate::bc::{InitConfig, InitKind};
 use crate::config::{DecaySignal, GuidanceConfig, RewardConfig, TrainConfig};
 use crate::dapg::DemonstrationRowsConfig;
 use crate::error::Invalid;
+pub use crate::methods::{Guided, METHODS, Method, POFD_LAMBDA, Start, method};
 use crate::policy_update::{NpgConfig, PolicyUpdateConfig};
-
-/// One algorithm: its name, what it is in a line, where it comes from, and how to run it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Algorithm {
-    pub name: &'static str,
-    pub summary: &'static str,
-    pub paper: &'static str,
-    /// `configs/<folder>/<task>.toml`, or the command that runs it.
-    pub run: &'static str,
-}
-
-/// Every algorithm, baselines first.
-pub const ALGORITHMS: &[Algorithm] = &[
-    Algorithm {
-        name: "trpo",
-        summary: "TRPO on the env reward alone",
-        paper: "Schulman et al., 2015",
-        run: "configs/trpo/",
-    },
-    Algorithm {
-        name: "bc",
-        summary: "behaviour cloning: the policy fitted to the demonstrations by maximum likelihood",
-        paper: "(Pomerleau, 1991)",
-        run: "logo bc",
-    },
-    Algorithm {
-        name: "bc-trpo",
-        summary: "behaviour cloning ([init] kind = \"bc\"), then TRPO on the env reward",
-        paper: "(as in Rajeswaran et al., 2018)",
-        run: "configs/bc-trpo/",
-    },
-    Algorithm {
-        name: "gail",
-        summary: "TRPO on the discriminator's −log D(s, a) alone; the env reward is unused",
-        paper: "Ho & Ermon, 2016",
-        run: "configs/gail/",
-    },
-    Algorithm {
-        name: "pofd",
-        summary: "TRPO on r + λ₁·(−log D(s, a)), the discriminator trained as LOGO's",
-        paper: "Kang, Jie & Feng, 2018",
-        run: "configs/pofd/",
-    },
-    Algorithm {
-        name: "dapg",
-        summary: "behaviour cloning, then natural gradient steps with the demonstrations as rows weighted λ0·λ1^k·max Â",
-        paper: "Rajeswaran et al., 2018",
-        run: "configs/dapg/",
-    },
-    Algorithm {
-        name: "logo",
-        summary: "TRPO step, then a guidance step toward the demonstrations (KL δ_k, decaying)",
-        paper: "Rengarajan et al., ICLR 2022",
-        run: "configs/logo/",
-    },
-    Algorithm {
-        name: "logo-fast",
-        summary: "LOGO in float32 with critic fits on a quarter of the rows (the fast preset)",
-        paper: "logo-rl",
-        run: "configs/logo-fast/",
-    },
-    Algorithm {
-        name: "ppo",
-        summary: "early-stopping PPO-Clip on the env reward alone (the seed paper's Algorithm 3)",
-        paper: "Schulman et al., 2017",
-        run: "configs/ppo/",
-    },
-    Algorithm {
-        name: "logo-ppo",
-        summary: "LOGO with both steps by early-stopping PPO-Clip",
-        paper: "the seed paper",
-        run: "configs/logo-ppo/",
-    },
-    Algorithm {
-        name: "logo-cdq",
-        summary: "LOGO with clipped double-Q critics (baseline min(V1, V2))",
-        paper: "the seed paper",
-        run: "configs/logo-cdq/",
-    },
-    Algorithm {
-        name: "logo-ppo-cdq",
-        summary: "LOGO with PPO-Clip steps and clipped double-Q critics (the seed paper's Algorithm 2)",
-        paper: "the seed paper",
-        run: "configs/logo-ppo-cdq/",
-    },
-    Algorithm {
-        name: "logo-clip-in-trpo",
-        summary: "LOGO with the clipped surrogate inside TRPO's natural-gradient step",
-        paper: "the seed paper's code",
-        run: "configs/logo-clip-in-trpo/",
-    },
-    Algorithm {
-        name: "logo-ppo-penalty",
-        summary: "LOGO: PPO-Clip improvement step, PPO-Penalty guidance step with δ_k its KL target (Algorithm 4)",
-        paper: "the seed paper",
-        run: "configs/logo-ppo-penalty/",
-    },
-];
+use serde::Deserialize;
 
 /// `logo algorithms`: a line per algorithm, names aligned.
 pub fn table() -> String {
-    let width = ALGORITHMS.iter().map(|a| a.name.len()).max().unwrap_or(0);
-    ALGORITHMS
+    let width = METHODS.iter().map(|m| m.name.len()).max().unwrap_or(0);
+    METHODS
         .iter()
-        .map(|a| {
-            format!(
-                "{:width$}  {} [{}; {}]\n",
-                a.name, a.summary, a.paper, a.run
-            )
+        .map(|m| {
+            let run = m
+                .command
+                .map_or(format!("configs/{}/", m.name), str::to_string);
+            format!("{:width$}  {} [{}; {run}]\n", m.name, m.summary, m.paper)
         })
         .collect()
 }
 
-/// The algorithms `logo compare` (and [`configure`]) can make from one LOGO config.
-pub const COMPARABLE: [&str; 6] = ["logo", "trpo", "gail", "pofd", "bc-trpo", "dapg"];
+/// The methods `logo compare` (and [`configure`]) can make from one LOGO config: LOGO
+/// first, then the table's order.
+pub fn comparable() -> Vec<&'static str> {
+    let others = METHODS.iter().filter(|m| m.comparable && m.name != "logo");
+    std::iter::once("logo")
+        .chain(others.map(|m| m.name))
+        .collect()
+}
 
 /// `base`, a LOGO config (its task, budget, networks, TRPO settings and demonstrations),
 /// made into algorithm `name` by the keys that make that algorithm and nothing else: the
@@ -144,68 +54,146 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, Invalid>
                 .into(),
         );
     }
+    let method = method(name).filter(|m| m.comparable).ok_or_else(|| {
+        let known = comparable().join(", ");
+        format!("unknown algorithm {name:?}: expected one of {known}")
+    })?;
     let mut config = TrainConfig {
         init: InitConfig::default(),
-        reward: RewardConfig::default(),
+        reward: RewardConfig {
+            env: method.reward.0,
+            discriminator: method.reward.1,
+        },
         guidance: None,
         demonstration_rows: None,
         preset: None,
+        method: Some(method.name.to_string()),
         ..base.clone()
     };
-    // GAIL's and POfD's discriminator is LOGO's, without the guidance step.
-    let discriminator_alone = || GuidanceConfig {
-        step: false,
-        delta0: None,
-        alpha: None,
-        warmup: None,
-        update: None,
-        critic: None,
-        decay_on: DecaySignal::default(),
-        decay_from: None,
-        grow_back: false,
-        ..guidance.clone()
-    };
-    match name {
-        "logo" => {
+    match method.guided {
+        Guided::Step => {
             config.guidance = Some(guidance.clone());
             config.init = base.init.clone();
         }
+        // GAIL's and POfD's discriminator is LOGO's, without the guidance step.
+        Guided::Discriminator => {
+            config.guidance = Some(GuidanceConfig {
+                step: false,
+                delta0: None,
+                alpha: None,
+                warmup: None,
+                update: None,
+                critic: None,
+                decay_on: DecaySignal::default(),
+                decay_from: None,
+                grow_back: false,
+                ..guidance.clone()
+            });
+        }
+        Guided::No => {}
+    }
+    if method.start == Start::Clone {
+        // The guidance's demonstrations: named here where the method drops the guidance,
+        // by default ([init] demos absent) where it keeps it.
+        let demos = match method.guided {
+            Guided::Step => base.init.demos.clone(),
+            _ => guidance.demos.clone(),
+        };
+        config.init = InitConfig {
+            kind: InitKind::Bc,
+            demos,
+            ..base.init.clone()
+        };
+    }
+    match method.improvement {
         "trpo" => {}
-        "bc-trpo" | "dapg" => {
-            config.init = InitConfig {
-                kind: InitKind::Bc,
-                demos: guidance.demos.clone(),
-                ..base.init.clone()
-            };
-            if name == "dapg" {
-                config.improvement = PolicyUpdateConfig::Npg(npg_of(&base.improvement));
-                config.demonstration_rows = Some(DemonstrationRowsConfig {
-                    demos: None,
-                    lambda0: DAPG_LAMBDA.0,
-                    lambda1: DAPG_LAMBDA.1,
-                });
-            }
-        }
-        "gail" | "pofd" => {
-            config.guidance = Some(discriminator_alone());
-            config.reward = match name {
-                "gail" => RewardConfig {
-                    env: 0.0,
-                    discriminator: 1.0,
-                },
-                _ => RewardConfig {
-                    env: 1.0,
-                    discriminator: POFD_LAMBDA,
-                },
-            };
-        }
+        "npg" => config.improvement = PolicyUpdateConfig::Npg(npg_of(&base.improvement)),
         other => {
-            let known = COMPARABLE.join(", ");
-            return Err(format!("unknown algorithm {other:?}: expected one of {known}").into());
+            return Err(
+                format!("{name}: logo compare makes trpo or npg steps, not {other}").into(),
+            );
         }
+    }
+    // The entry's own keys: DAPG's demonstration rows (from the guidance's demonstrations).
+    let keys: toml::Table = toml::from_str(method.keys).expect("a method's keys are TOML");
+    if let Some(rows) = keys.get("demonstration_rows") {
+        config.demonstration_rows = Some(
+            DemonstrationRowsConfig::deserialize(rows.clone())
+                .map_err(|e| format!("{name}: demonstration_rows: {}", e.message()))?,
+        );
     }
     config.validate()?;
     Ok(config)
+}
+
+/// The table's method whose makeup `config` has, for a config that names none (a
+/// shipped config written out in full, a run older than the name): among the methods
+/// with the same use of the guidance and the same reward sources, the one that matches
+/// most of the improvement step's kind, the start, and its own keys (every one of them
+/// in the config, with its value), the method with more keys first on a tie.
+pub fn identify(config: &TrainConfig) -> &'static str {
+    let guided = guided(config);
+    let sources = |(env, discriminator): (f64, f64)| (env != 0.0, discriminator != 0.0);
+    let reward = (config.reward.env, config.reward.discriminator);
+    let start = match config.init.kind {
+        InitKind::Bc => Start::Clone,
+        InitKind::Random => Start::Random,
+    };
+    let written = toml::Table::try_from(config).unwrap_or_default();
+    METHODS
+        .iter()
+        .filter(|m| m.command.is_none() && m.guided == guided)
+        .filter(|m| sources(m.reward) == sources(reward))
+        .max_by_key(|m| {
+            let keys: toml::Table = toml::from_str(m.keys).expect("a method's keys are TOML");
+            (
+                m.improvement == config.improvement.kind(),
+                m.start == start,
+                holds(&written, &keys),
+                keys_count(&keys),
+                // The table's order on a full tie: the earlier entry.
+                std::cmp::Reverse(METHODS.iter().position(|n| n.name == m.name)),
+            )
+        })
+        .map_or("trpo", |m| m.name)
+}
+
+/// What `config` takes of LOGO's guidance.
+pub fn guided(config: &TrainConfig) -> Guided {
+    match &config.guidance {
+        None => Guided::No,
+        Some(g) if g.step => Guided::Step,
+        Some(_) => Guided::Discriminator,
+    }
+}
+
+/// Whether `config` has every key of `keys`, with the same value.
+fn holds(config: &toml::Table, keys: &toml::Table) -> bool {
+    keys.iter()
+        .all(|(key, value)| match (value, config.get(key)) {
+            (toml::Value::Table(inner), Some(toml::Value::Table(theirs))) => holds(theirs, inner),
+            (value, Some(theirs)) => value == theirs,
+            (_, None) => false,
+        })
+}
+
+fn keys_count(keys: &toml::Table) -> usize {
+    keys.values()
+        .map(|v| v.as_table().map_or(1, keys_count))
+        .sum()
+}
+
+/// The name checkpoints recorded before methods had names: "logo" with a guidance
+/// step, "gail" or "pofd" with the discriminator's reward alone or mixed in, "dapg" with
+/// demonstration rows, else "trpo". Read only to resume such a checkpoint.
+pub fn name_before_the_table(config: &TrainConfig) -> &'static str {
+    match &config.guidance {
+        Some(g) if g.step => "logo",
+        Some(_) if config.reward.env == 0.0 => "gail",
+        Some(_) => "pofd",
+        None if config.demonstration_rows.is_some() => "dapg",
+        None => "trpo",
+    }
 }
 
 /// DAPG's step with the natural-gradient settings of `step` where it has them.
@@ -216,54 +204,50 @@ fn npg_of(step: &PolicyUpdateConfig) -> NpgConfig {
     }
 }
 
-pub use crate::presets::{DAPG_LAMBDA, POFD_LAMBDA};
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Every algorithm with a config folder is a preset (`[algorithm] name`), and every
-    /// preset is listed.
-    #[test]
-    fn the_listed_algorithms_are_the_presets() {
-        let mut listed: Vec<&str> = ALGORITHMS
-            .iter()
-            .filter(|a| a.run.starts_with("configs/"))
-            .map(|a| a.name)
-            .collect();
-        let mut presets = crate::presets::NAMES.to_vec();
-        listed.sort();
-        presets.sort();
-        assert_eq!(listed, presets);
-    }
-
-    /// Each algorithm's configs exist for the four LOGO tasks (a renamed folder fails here).
+    /// Each method of the trainer's configs has its folder with the four LOGO tasks (a
+    /// renamed folder fails here), and the Figure 1 methods are in the table.
     #[test]
     fn every_listed_config_folder_has_the_four_tasks() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-        for a in ALGORITHMS.iter().filter(|a| a.run.starts_with("configs/")) {
+        for name in crate::presets::names() {
             for task in [
                 "hopper",
                 "walker2d",
                 "halfcheetah",
                 "inverted_double_pendulum",
             ] {
-                let path = root.join(a.run).join(format!("{task}.toml"));
-                assert!(path.is_file(), "{}: {} is missing", a.name, path.display());
+                let path = root.join(format!("configs/{name}/{task}.toml"));
+                assert!(path.is_file(), "{name}: {} is missing", path.display());
             }
         }
-        let names: Vec<_> = ALGORITHMS.iter().map(|a| a.name).collect();
-        for name in [
-            "trpo",
-            "logo",
-            "bc",
-            "bc-trpo",
-            "gail",
-            "pofd",
-            "dapg",
-            "logo-ppo-cdq",
-        ] {
-            assert!(names.contains(&name), "{name} is not listed");
+        for name in ["trpo", "logo", "bc", "bc-trpo", "gail", "pofd", "dapg"] {
+            assert!(method(name).is_some(), "{name} is not in the table");
         }
+    }
+
+    /// Every comparable method is one `configure` makes, and the names are unique.
+    #[test]
+    fn the_table_is_consistent() {
+        let mut names: Vec<_> = METHODS.iter().map(|m| m.name).collect();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), METHODS.len(), "a name appears twice");
+        for m in METHODS.iter().filter(|m| m.comparable) {
+            assert!(
+                m.command.is_none(),
+                "{}: a comparable method is a config",
+                m.name
+            );
+            assert!(
+                matches!(m.improvement, "trpo" | "npg"),
+                "{}: configure makes trpo or npg steps",
+                m.name
+            );
+        }
+        assert_eq!(comparable()[0], "logo");
     }
 }

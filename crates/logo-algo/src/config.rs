@@ -141,6 +141,12 @@ pub struct TrainConfig {
     /// preset under them again would bring back keys the config had set to defaults).
     #[serde(rename = "algorithm", default, skip_serializing)]
     pub preset: Option<AlgorithmPreset>,
+    /// The method this config is (`methods.rs`), as a run records it (its config.toml,
+    /// its checkpoints' algorithm): `[algorithm] name`'s, else the config's own `method`,
+    /// else the method whose makeup the config has (`algorithms::identify`). Absent only
+    /// in runs older than it, which are identified by their keys.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method: Option<String>,
 }
 
 /// `[reward]`: what the improvement step ascends, per step
@@ -452,10 +458,37 @@ impl TrainConfig {
             g.demos.as_mut().map(resolve);
             g.behaviour_policy.as_mut().map(resolve);
         }
+        config.method = Some(
+            config
+                .named_method()
+                .map_err(|e| ConfigError::refused(path, e))?,
+        );
         config
             .validate()
             .map_err(|e| ConfigError::refused(path, e))?;
         Ok(config)
+    }
+
+    /// The method's name a run of this config records: `[algorithm] name`'s, else the
+    /// config's `method` (one of the table's), else the one its keys make.
+    fn named_method(&self) -> Result<String, Invalid> {
+        match (&self.preset, &self.method) {
+            (Some(preset), Some(method)) if preset.name != *method => Err(format!(
+                "method = {method:?} but algorithm.name = {:?}: give one of them",
+                preset.name
+            )
+            .into()),
+            (Some(preset), _) => Ok(preset.name.clone()),
+            (None, Some(method)) => match crate::methods::method(method) {
+                Some(m) if m.command.is_none() => Ok(method.clone()),
+                _ => Err(format!(
+                    "method = {method:?}: expected one of {}",
+                    presets::names().join(", ")
+                )
+                .into()),
+            },
+            (None, None) => Ok(crate::algorithms::identify(self).to_string()),
+        }
     }
 
     /// The file paths the config names, by key.

@@ -17,7 +17,8 @@
 //! | `trainer/` | the iteration (`iteration.rs`) over the learner (`learner.rs`), its resources (`resources.rs`) and its recorder (`recorder.rs`, and `record.rs`: an iteration's metrics row and checkpoints); the learner's state, which a checkpoint is (`learner_state.rs`) |
 //! | `metrics.rs`, `run_dir.rs`, `tensorboard.rs` | `metrics.csv`, TensorBoard's event file and the run's folder |
 //! | `config.rs`, `validate.rs` | the TOML config, and the checks its tables share |
-//! | `presets.rs` | `[algorithm] name`: the keys that make each algorithm, under a config's own |
+//! | `methods.rs` | the table of methods: one entry each, read by everything that lists or makes one |
+//! | `algorithms.rs`, `presets.rs` | `logo algorithms`, `logo compare`'s methods; `[algorithm] name`: the keys that make each method, under a config's own |
 
 pub mod adam;
 pub mod algorithms;
@@ -32,6 +33,7 @@ pub mod error;
 pub mod gae;
 pub mod guidance;
 pub mod lbfgs;
+pub mod methods;
 pub mod metrics;
 pub mod more_thuente;
 pub mod policy_update;

@@ -3,33 +3,22 @@
 //! the demonstrations, and the preset the rest: `name = "gail"` is `[guidance] step =
 //! false` and `[reward] env = 0, discriminator = 1`. Each preset is the difference between
 //! its `configs/<name>/` folder and `configs/trpo/` (or `configs/logo/` for LOGO's
-//! variants); a test holds them to it. A run stores the expanded tables, not the name.
+//! variants); a test holds them to it. Each preset's keys are made from its entry in the
+//! table of methods (`methods.rs`). A run stores the expanded tables and the method's
+//! name (`method`), not `[algorithm]`.
 
 use crate::error::Invalid;
+use crate::methods::{Guided, METHODS, Start};
 use serde::{Deserialize, Serialize};
 
-/// POfD's λ₁ in its preset, `configs/pofd/` and `logo compare` (docs/algorithms.md says why).
-pub const POFD_LAMBDA: f64 = 0.1;
-
-/// DAPG's (λ0, λ1) in its preset, `configs/dapg/` and `logo compare` (docs/algorithms.md).
-pub const DAPG_LAMBDA: (f64, f64) = (0.1, 0.95);
-
-/// Every preset's name.
-pub const NAMES: [&str; 13] = [
-    "trpo",
-    "ppo",
-    "bc-trpo",
-    "gail",
-    "pofd",
-    "dapg",
-    "logo",
-    "logo-fast",
-    "logo-ppo",
-    "logo-cdq",
-    "logo-ppo-cdq",
-    "logo-clip-in-trpo",
-    "logo-ppo-penalty",
-];
+/// Every preset's name: the table's methods that are configs of the trainer.
+pub fn names() -> Vec<&'static str> {
+    METHODS
+        .iter()
+        .filter(|m| m.command.is_none())
+        .map(|m| m.name)
+        .collect()
+}
 
 /// `[algorithm]`: the preset's name.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -38,61 +27,31 @@ pub struct AlgorithmPreset {
     pub name: String,
 }
 
-/// The preset's keys as TOML, and whether the algorithm has LOGO's guidance step (and so
-/// needs the config's `[guidance]`: its demonstrations, δ_0, α, K_δ).
-fn preset(name: &str) -> Option<(String, Guidance)> {
-    let improvement = |kind: &str| format!("[improvement]\nkind = \"{kind}\"\n");
-    let twin = "[critic]\nkind = \"twin-min\"\n";
-    let discriminator_alone = |env: f64, discriminator: f64| {
-        format!(
-            "[guidance]\nstep = false\n[reward]\nenv = {env:?}\ndiscriminator = {discriminator:?}\n"
-        )
-    };
-    let preset = match name {
-        "trpo" => (String::new(), Guidance::None),
-        "ppo" => (improvement("ppo-clip"), Guidance::None),
-        "bc-trpo" => ("[init]\nkind = \"bc\"\n".into(), Guidance::None),
-        "gail" => (discriminator_alone(0.0, 1.0), Guidance::Discriminator),
-        "pofd" => (
-            discriminator_alone(1.0, POFD_LAMBDA),
-            Guidance::Discriminator,
-        ),
-        "dapg" => (
-            format!(
-                "[init]\nkind = \"bc\"\n{}[demonstration_rows]\nlambda0 = {:?}\nlambda1 = {:?}\n",
-                improvement("npg"),
-                DAPG_LAMBDA.0,
-                DAPG_LAMBDA.1
-            ),
-            Guidance::None,
-        ),
-        "logo" => (String::new(), Guidance::Step),
-        "logo-fast" => (
-            "dtype = \"f32\"\n[critic.fit]\nmethod = \"lbfgs\"\nsubsample = 0.25\n".into(),
-            Guidance::Step,
-        ),
-        "logo-ppo" => (improvement("ppo-clip"), Guidance::Step),
-        "logo-cdq" => (twin.into(), Guidance::Step),
-        "logo-ppo-cdq" => (improvement("ppo-clip") + twin, Guidance::Step),
-        "logo-clip-in-trpo" => (improvement("clip-in-trpo"), Guidance::Step),
-        "logo-ppo-penalty" => (
-            improvement("ppo-clip") + "[guidance.update]\nkind = \"ppo-penalty\"\n",
-            Guidance::Step,
-        ),
-        _ => return None,
-    };
-    Some(preset)
-}
-
-/// What a preset needs of the config's `[guidance]`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Guidance {
-    /// None: the algorithm has no discriminator and no guidance step.
-    None,
-    /// Its demonstrations, for the discriminator (GAIL, POfD).
-    Discriminator,
-    /// LOGO's guidance, with its step.
-    Step,
+/// The preset's keys as TOML, made from its entry in the table: the entry's own keys,
+/// then its improvement step's kind, its reward, its discriminator without the guidance
+/// step and its start from the clone, where they differ from TRPO's; and what the method
+/// takes of LOGO's guidance (and so needs of the config's `[guidance]`).
+fn preset(name: &str) -> Option<(String, Guided)> {
+    let method = METHODS
+        .iter()
+        .find(|m| m.name == name && m.command.is_none())?;
+    // The entry's keys first: they may hold top-level keys (dtype), which must come
+    // before any table.
+    let mut keys = method.keys.to_string();
+    if method.improvement != "trpo" {
+        keys += &format!("[improvement]\nkind = {:?}\n", method.improvement);
+    }
+    if method.guided == Guided::Discriminator {
+        keys += "[guidance]\nstep = false\n";
+    }
+    if method.reward != (1.0, 0.0) {
+        let (env, discriminator) = method.reward;
+        keys += &format!("[reward]\nenv = {env:?}\ndiscriminator = {discriminator:?}\n");
+    }
+    if method.start == Start::Clone {
+        keys += "[init]\nkind = \"bc\"\n";
+    }
+    Some((keys, method.guided))
 }
 
 /// `table` with its `[algorithm]` preset's keys laid under it (the table's own win),
@@ -110,21 +69,21 @@ pub fn expand(
     let (keys, guidance) = preset(name).ok_or_else(|| {
         format!(
             "algorithm.name = {name:?} is no preset; expected one of {}",
-            NAMES.join(", ")
+            names().join(", ")
         )
     })?;
     match (guidance, table.get("guidance")) {
-        (Guidance::None, Some(_)) => {
+        (Guided::No, Some(_)) => {
             return Err(format!(
                 "algorithm.name = {name:?} has no discriminator or guidance step: remove \
                  [guidance] (demonstrations to clone go in [init] demos)"
             )
             .into());
         }
-        (Guidance::Discriminator | Guidance::Step, None) => {
+        (Guided::Discriminator | Guided::Step, None) => {
             return Err(format!(
                 "algorithm.name = {name:?} needs [guidance] with its demos{}",
-                if guidance == Guidance::Step {
+                if guidance == Guided::Step {
                     " and delta0, alpha, warmup"
                 } else {
                     ""
@@ -145,7 +104,7 @@ mod tests {
 
     #[test]
     fn every_name_has_a_preset_and_its_keys_are_toml() {
-        for name in NAMES {
+        for name in names() {
             let (keys, _) = preset(name).unwrap_or_else(|| panic!("{name}"));
             toml::from_str::<toml::Table>(&keys).unwrap_or_else(|e| panic!("{name}: {e}"));
         }

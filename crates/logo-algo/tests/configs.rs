@@ -3,24 +3,22 @@
 
 use std::path::Path;
 
-use logo_algo::algorithms::configure;
+use logo_algo::algorithms::{Guided, METHODS, Start, comparable, configure};
 use logo_algo::critic::CriticFit;
 use logo_algo::{Dtype, TrainConfig};
 use logo_data::Demonstrations;
 use logo_envs::{EnvFactory, EnvOptions};
 
-const ALGORITHMS: [&str; 8] = [
-    "logo",
-    "logo-ppo",
-    "logo-cdq",
-    "logo-ppo-cdq",
-    "logo-ppo-penalty",
-    "logo-clip-in-trpo",
-    "ppo",
-    "trpo",
-];
-/// The baselines made of TRPO's config and a reward or an initialisation.
-const BASELINES: [&str; 4] = ["bc-trpo", "gail", "pofd", "dapg"];
+/// The table's methods that are configs of the trainer, by what they take of LOGO's
+/// guidance: its variants (the guidance step) and the rest (TRPO's config with a reward,
+/// an initialisation or a step kind of their own).
+fn methods(step: bool) -> Vec<&'static str> {
+    METHODS
+        .iter()
+        .filter(|m| m.command.is_none() && (m.guided == Guided::Step) == step)
+        .map(|m| m.name)
+        .collect()
+}
 const ENVS: [&str; 4] = [
     "hopper",
     "walker2d",
@@ -40,14 +38,14 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
             let config = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let spec = config.env.factory().unwrap().spec().clone();
             EnvFactory::new(&config.eval_env_id(), &EnvOptions::default()).unwrap();
-            if !matches!(algo.as_str(), "experiments" | "behaviour" | "templates") {
-                assert_eq!(
-                    config.guidance.is_some(),
-                    algo.starts_with("logo")
-                        || matches!(algo.as_str(), "gail" | "pofd" | "reference"),
-                    "{}",
-                    path.display()
-                );
+            // A method's folder has [guidance] where the method takes the discriminator or
+            // the guidance step; the reference configs are LOGO's.
+            let guided = match logo_algo::algorithms::method(&algo) {
+                Some(m) => Some(m.guided != Guided::No),
+                None => (algo == "reference").then_some(true),
+            };
+            if let Some(guided) = guided {
+                assert_eq!(config.guidance.is_some(), guided, "{}", path.display());
             }
             if let Some(demos) = config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
                 let d = Demonstrations::load(demos, &spec.id, spec.obs_dim, spec.act_dim)
@@ -57,7 +55,8 @@ fn every_shipped_config_loads_and_its_demos_fit_the_env() {
             checked += 1;
         }
     }
-    assert!(checked >= ALGORITHMS.len() * ENVS.len() + 2, "{checked}");
+    let listed = logo_algo::presets::names().len();
+    assert!(checked >= listed * ENVS.len() + 2, "{checked}");
 }
 
 /// The variants of one env differ from `configs/logo/<env>.toml` in their policy-update
@@ -67,9 +66,16 @@ fn variants_are_configurations_of_the_same_run() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
     for env in ENVS {
         let logo = TrainConfig::load(&root.join("logo").join(format!("{env}.toml"))).unwrap();
-        for algo in ALGORITHMS {
+        for algo in methods(true).into_iter().chain(["ppo", "trpo"]) {
             let path = root.join(algo).join(format!("{env}.toml"));
             let mut config = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            // A run of it records its folder's method, read off its keys.
+            assert_eq!(config.method.as_deref(), Some(algo), "{}", path.display());
+            if algo == "logo-fast" {
+                continue; // the_fast_preset_is_the_default_with_its_levers
+            }
+            config.method = logo.method.clone();
+            config.init = logo.init.clone();
             config.improvement = logo.improvement.clone();
             config.critic = logo.critic.clone();
             match (&mut config.guidance, &logo.guidance) {
@@ -134,6 +140,13 @@ fn the_fast_preset_is_the_default_with_its_levers() {
         assert_eq!(fit.subsample, 0.25, "{}", path.display());
         fit.subsample = 1.0;
         fast.dtype = None;
+        assert_eq!(
+            fast.method.as_deref(),
+            Some("logo-fast"),
+            "{}",
+            path.display()
+        );
+        fast.method = logo.method.clone();
         assert_eq!(fast, logo, "{} differs beyond its levers", path.display());
     }
 }
@@ -231,9 +244,12 @@ fn baselines_are_trpo_with_a_reward_or_an_initialisation() {
         let trpo = TrainConfig::load(&root.join("trpo").join(format!("{env}.toml"))).unwrap();
         let logo = TrainConfig::load(&root.join("logo").join(format!("{env}.toml"))).unwrap();
         let logo_demos = logo.guidance.as_ref().and_then(|g| g.demos.clone());
-        for algo in BASELINES {
+        for algo in methods(false) {
             let path = root.join(algo).join(format!("{env}.toml"));
             let mut config = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            if config.bc_demos().is_none() && config.guidance.is_none() {
+                continue; // TRPO and PPO: no demonstrations (variants_are_...)
+            }
             let demos = config.bc_demos().map(Path::to_path_buf);
             assert_eq!(
                 demos,
@@ -241,6 +257,8 @@ fn baselines_are_trpo_with_a_reward_or_an_initialisation() {
                 "{}: not LOGO's demonstrations",
                 path.display()
             );
+            assert_eq!(config.method.as_deref(), Some(algo), "{}", path.display());
+            config.method = trpo.method.clone();
             config.init = trpo.init.clone();
             config.reward = trpo.reward.clone();
             config.guidance = None;
@@ -262,7 +280,7 @@ fn compare_makes_the_baselines_of_the_config_folders() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
     for env in ENVS {
         let logo = TrainConfig::load(&root.join("logo").join(format!("{env}.toml"))).unwrap();
-        for algo in BASELINES {
+        for algo in comparable() {
             let path = root.join(algo).join(format!("{env}.toml"));
             let shipped = TrainConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let made = configure(&logo, algo).unwrap();
@@ -270,12 +288,13 @@ fn compare_makes_the_baselines_of_the_config_folders() {
         }
     }
     // A LOGO config whose δ_k waits for the agent: the methods without the guidance step
-    // drop its schedule's keys, and every baseline is made.
+    // drop its schedule's keys, and each of them is made.
     let mut waiting = TrainConfig::load(&root.join("logo/hopper.toml")).unwrap();
     let guidance = waiting.guidance.as_mut().unwrap();
     guidance.decay_on = logo_algo::config::DecaySignal::Success;
     guidance.decay_from = Some(0.9);
-    for algo in BASELINES {
+    let stepless = |a: &&str| logo_algo::algorithms::method(a).unwrap().guided != Guided::Step;
+    for algo in comparable().into_iter().filter(stepless) {
         let made = configure(&waiting, algo).unwrap_or_else(|e| panic!("{algo}: {e}"));
         assert!(
             made.guidance.is_none_or(|g| g.decay_from.is_none()),
@@ -298,15 +317,18 @@ fn each_preset_makes_its_config_folder() {
             let path = root.join("configs").join(algo).join(format!("{env}.toml"));
             std::fs::read_to_string(path).unwrap()
         };
-        for name in logo_algo::presets::NAMES {
+        for name in logo_algo::presets::names() {
             if name == "logo-fast" && env == "inverted_double_pendulum" {
                 continue; // IDP's fast preset keeps float64 (the_fast_preset_is_...).
             }
-            let base = match name {
-                "trpo" | "ppo" => text("trpo"),
-                "bc-trpo" | "dapg" => format!("{}\n[init]\n{demos}", text("trpo")),
-                "gail" | "pofd" => format!("{}\n[guidance]\n{demos}", text("trpo")),
-                _ => text("logo").replace(&format!("demos = \"../../data/logo/{env}\"\n"), &demos),
+            let method = logo_algo::algorithms::method(name).unwrap();
+            let base = match (method.guided, method.start) {
+                (Guided::No, Start::Random) => text("trpo"),
+                (Guided::No, Start::Clone) => format!("{}\n[init]\n{demos}", text("trpo")),
+                (Guided::Discriminator, _) => format!("{}\n[guidance]\n{demos}", text("trpo")),
+                (Guided::Step, _) => {
+                    text("logo").replace(&format!("demos = \"../../data/logo/{env}\"\n"), &demos)
+                }
             };
             let path = dir.join(format!("{name}-{env}.toml"));
             std::fs::write(&path, format!("{base}\n[algorithm]\nname = \"{name}\"\n")).unwrap();

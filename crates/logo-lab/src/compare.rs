@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, ensure};
 use clap::{Args, Command, FromArgMatches};
-use logo_algo::algorithms::{COMPARABLE, configure};
+use logo_algo::algorithms::{comparable, configure};
 use logo_algo::{IterationMetrics, TrainConfig};
 use logo_engine::EngineArgs;
 use logo_stats::Bootstrap;
@@ -26,11 +26,12 @@ pub struct CompareArgs {
     /// A LOGO config of the task (its env, budget, settings and `[guidance] demos`).
     #[arg(long)]
     config: PathBuf,
-    /// The algorithms, comma-separated: logo, trpo, gail, pofd, bc-trpo, dapg.
+    /// The algorithms, comma-separated (default: every one `logo algorithms` marks
+    /// comparable).
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "logo,trpo,gail,pofd,bc-trpo,dapg"
+        default_values_t = comparable().into_iter().map(String::from)
     )]
     algorithms: Vec<String>,
     /// Seeds: a range `0..5` (5 excluded), `0..=4`, a list `0,2,7`.
@@ -89,9 +90,9 @@ fn check_flags(args: &CompareArgs) -> Result<()> {
     ensure!(!args.algorithms.is_empty(), "--algorithms names none");
     for name in &args.algorithms {
         ensure!(
-            COMPARABLE.contains(&name.as_str()),
+            comparable().contains(&name.as_str()),
             "--algorithms: unknown algorithm {name:?}: expected some of {}",
-            COMPARABLE.join(", ")
+            comparable().join(", ")
         );
     }
     ensure!(args.reps >= 1, "--reps must be at least 1");

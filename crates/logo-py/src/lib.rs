@@ -34,6 +34,7 @@ fn _logo_rl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(presets::presets, m)?)?;
     m.add_function(wrap_pyfunction!(presets::preset_text, m)?)?;
     m.add_function(wrap_pyfunction!(presets::preset_data, m)?)?;
+    m.add_function(wrap_pyfunction!(presets::methods, m)?)?;
     m.add("LogoError", m.py().get_type::<LogoError>())?;
     m.add("MUJOCO_VERSION", "3.17.0")?;
     m.add("EXTERNAL_PREFIX", logo_envs::EXTERNAL_PREFIX)?;

@@ -32,3 +32,21 @@ pub fn preset_data(py: Python<'_>) -> Vec<(&'static str, Bound<'_, PyBytes>)> {
         .map(|&(path, bytes)| (path, PyBytes::new(py, bytes)))
         .collect()
 }
+
+/// The table of methods (`logo algorithms`): (name, what it is, its paper, whether `logo
+/// compare` makes it), in the order `logo compare` runs the comparable ones.
+#[pyfunction]
+pub fn methods() -> Vec<(&'static str, &'static str, &'static str, bool)> {
+    let comparable = logo_algo::algorithms::comparable();
+    let mut listed: Vec<_> = logo_algo::algorithms::METHODS
+        .iter()
+        .map(|m| (m.name, m.summary, m.paper, m.comparable))
+        .collect();
+    listed.sort_by_key(|(name, ..)| {
+        comparable
+            .iter()
+            .position(|c| c == name)
+            .unwrap_or(usize::MAX)
+    });
+    listed
+}

@@ -68,3 +68,20 @@ def test_guidance_none_is_plain_trpo(elsewhere):
     with pytest.raises(ValueError, match="guidance=None"):
         logo_rl.train("logo/inverted_double_pendulum", guidance=None, env="Pendulum-v1",
                       demos="x", **short())
+
+
+def test_the_table_of_methods_is_the_packages_list():
+    """The package's presets and logo_rl.compare's methods come from the one table of
+    methods (crates/logo-algo/src/methods.rs): LOGO from the clone is among both."""
+    import importlib
+
+    listed = logo_rl._logo_rl.methods()
+    names = [name for name, *_ in listed]
+    assert names[0] == "logo" and "bc" in names and len(names) == len(set(names))
+    compare = importlib.import_module("logo_rl.compare")
+    assert compare.METHODS == tuple(n for n, _, _, comparable in listed if comparable)
+    assert "bc-logo" in compare.METHODS and "bc" not in compare.METHODS
+    presets = logo_rl.presets()
+    for name, *_ in listed:
+        if name != "bc":
+            assert f"{name}/hopper" in presets, name

@@ -179,7 +179,7 @@ impl LearnerState {
     ) -> Result<(), TrainError> {
         let policy = &self.networks.policy;
         let (obs_dim, act_dim) = (policy.obs_dim(), policy.act_dim());
-        let mut meta = CheckpointMeta::new(env_id, obs_dim, act_dim, algorithm(config));
+        let mut meta = CheckpointMeta::new(env_id, obs_dim, act_dim, &algorithm(config));
         let dims = policy.mean.dims();
         meta.networks
             .insert("policy".into(), dims[1..dims.len() - 1].to_vec());
@@ -235,17 +235,14 @@ impl LearnerState {
     }
 }
 
-/// The algorithm a checkpoint's metadata names: "logo" with a guidance step, "gail" or
-/// "pofd" with the discriminator's reward alone or mixed in, "dapg" with demonstration
-/// rows, else "trpo" (kept checkpoints name "logo" or "trpo", as runs of their configs
-/// still do).
-fn algorithm(config: &TrainConfig) -> &'static str {
-    match &config.guidance {
-        Some(g) if g.step => "logo",
-        Some(_) if config.reward.env == 0.0 => "gail",
-        Some(_) => "pofd",
-        None if config.demonstration_rows.is_some() => "dapg",
-        None => "trpo",
+/// The method a checkpoint's metadata names: the config's (`method`) where its keys
+/// agree on the guidance, else (a run older than the name, a stored config edited since)
+/// the one its keys make.
+fn algorithm(config: &TrainConfig) -> String {
+    use crate::algorithms::{guided, identify, method};
+    match config.method.as_deref().and_then(method) {
+        Some(m) if m.guided == guided(config) => m.name.to_string(),
+        _ => identify(config).to_string(),
     }
 }
 
@@ -348,13 +345,16 @@ fn check_config_against_meta(
     config: &TrainConfig,
     learned: &Learned,
 ) -> Result<(), TrainError> {
+    // A run older than the methods' names recorded the name they had then.
+    let recorded = match config.method {
+        None if meta.algorithm == crate::algorithms::name_before_the_table(config) => {
+            meta.algorithm.clone()
+        }
+        _ => algorithm(config),
+    };
     for (what, found, expected) in [
         ("env", meta.env_id.clone(), config.env.env_id()?),
-        (
-            "algorithm",
-            meta.algorithm.clone(),
-            algorithm(config).to_string(),
-        ),
+        ("algorithm", meta.algorithm.clone(), recorded),
         (
             "policy network",
             format!("{:?}", meta.networks.get("policy")),

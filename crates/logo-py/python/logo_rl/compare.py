@@ -18,7 +18,8 @@ from .run import _plain, train
 from .presets import preset_path
 from .stats import interval, interval_two, iqm, probability_of_improvement
 
-METHODS = ("logo", "trpo", "gail", "pofd", "bc-trpo", "dapg")
+# The methods logo compare makes, as the table of methods lists them (logo first).
+METHODS = tuple(name for name, _, _, comparable in _logo_rl.methods() if comparable)
 
 
 def compare(
