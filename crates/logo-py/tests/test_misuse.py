@@ -241,3 +241,37 @@ def test_errors_raised_in_rust_are_the_packages_own(tmp_path):
     assert isinstance(raised.value, ValueError)
     with pytest.raises(logo_rl.LogoValueError):
         logo_rl.LogoEnv("InvertedDoublePendulum-v4").set_state(np.zeros(2), np.zeros(2))
+
+
+def test_demonstrations_of_another_env_are_refused_naming_both(tmp_path):
+    demos = logo_rl.record(TASK, pump, 2, tmp_path / "demos")
+
+    class Wider(gym.Wrapper):
+        """MountainCar's sizes, other observation bounds: another env."""
+
+        def __init__(self, env):
+            super().__init__(env)
+            self.observation_space = gym.spaces.Box(-2.0, 2.0, (2,), np.float32)
+
+    other = lambda: Wider(gym.make(TASK))  # noqa: E731
+    for call in (
+        lambda **kw: logo_rl.train("new-task", env=other, demos=demos, out=tmp_path / "r",
+                                   **short(), **kw),
+        lambda **kw: logo_rl.bc(demos, env=other, epochs=1, episodes=1,
+                                out=tmp_path / "bc" / "p.safetensors", **kw),
+    ):
+        with pytest.raises(logo_rl.LogoValueError,
+                           match=r"another env.*observation space Box\(low=\[-1\.2.*allow_other_env=True"):
+            call()
+        call(allow_other_env=True)  # trains anyway
+    # A Gymnasium id recorded, another one in env= (same sizes and bounds).
+    gym.register("logo_test/MountainCarAgain-v0",
+                 entry_point="gymnasium.envs.classic_control:Continuous_MountainCarEnv",
+                 max_episode_steps=999)
+    with pytest.raises(logo_rl.LogoValueError, match="Gymnasium id MountainCarContinuous-v0"):
+        logo_rl.train("new-task", env="logo_test/MountainCarAgain-v0", demos=demos,
+                      out=tmp_path / "r2", **short())
+    # Trajectories name no env: said once, with a warning.
+    rows = [(np.zeros((5, 2)), np.zeros((5, 1)))]
+    with pytest.warns(UserWarning, match="nothing in them says which env"):
+        logo_rl.train("new-task", env=TASK, demos=rows, out=tmp_path / "r3", **short())

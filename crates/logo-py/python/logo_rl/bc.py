@@ -10,7 +10,7 @@ from typing import Any, Callable, Sequence
 
 from ._errors import LogoTypeError, LogoValueError
 from . import _logo_rl
-from .custom import demos_path, prepare
+from .custom import check_demos_env, demos_path, prepare
 from .policy import Policy
 from .wrappers import judged
 
@@ -58,6 +58,7 @@ def bc(
     engine: str | None = None,
     backend: str | None = None,
     dtype: str | None = None,
+    allow_other_env: bool = False,
 ) -> Cloned:
     """Fits a policy to ``demos`` by maximum likelihood, as ``logo bc`` does, scores its mean
     action on ``episodes`` fresh episodes of ``env``, and writes it to ``out`` (default
@@ -72,6 +73,8 @@ def bc(
     (``"task"``, ``"terminated"``, ``"none"``, or a callable ``(obs, info) -> bool``
     judging each step of ``env``). The evaluation is also written beside the checkpoint
     (``policy.safetensors`` → ``policy.eval.json``, a run's ``eval.json`` layout).
+    Demonstrations recorded in another env than a Python ``env`` are refused unless
+    ``allow_other_env=True``, as :func:`logo_rl.train` refuses them.
     """
     for name, value in (("epochs", epochs), ("minibatch", minibatch), ("episodes", episodes)):
         if not isinstance(value, int) or isinstance(value, bool):
@@ -106,6 +109,8 @@ def bc(
         out = Path("runs") / f"bc-{env_id.replace('/', '_')}-seed{seed}" / "policy.safetensors"
     out = Path(out)
     where = demos_path(demos, out.parent, obs_dim, act_dim)
+    if python_env is not None:
+        check_demos_env(where, python_env[1], allow_other_env)
     path, report = _logo_rl.bc(
         env_id=env_id,
         demos=where,

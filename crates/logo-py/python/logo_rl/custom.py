@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import json
 import os
 import re
+import warnings
 from pathlib import Path
 from typing import Any, Callable
 
@@ -158,6 +160,11 @@ def prepare(env: str | Callable[[], gym.Env]) -> tuple[Callable[[], _Adapter], d
             "action_high": [float(v) for v in high],
             "max_episode_steps": int(steps),
             "dt": float(getattr(probe.unwrapped, "dt", 0.0)),
+            # For the demonstrations' check (check_demos_env); the Rust side reads only
+            # the keys above.
+            "spaces": (obs_space, act_space),
+            "gym_id": getattr(getattr(probe, "spec", None), "id", None),
+            "label": label,
         }
     finally:
         probe.close()
@@ -225,3 +232,71 @@ def demos_path(demos: Any, out: Path, obs_dim: int, act_dim: int) -> str:
         f"demos={type(demos).__name__}: expected a Minari dataset (a folder, an id, the "
         "dataset), a .npy path, or a list of (observations, actions) trajectories"
     )
+
+
+def _recorded_space(text) -> dict | None:
+    """A Box space as Minari's metadata serialises it, or None."""
+    try:
+        space = json.loads(text) if isinstance(text, str) else text
+    except ValueError:
+        return None
+    if not isinstance(space, dict) or space.get("type") != "Box":
+        return None
+    return space
+
+
+def _same_box(recorded: dict, space: spaces.Box) -> bool:
+    low, high = np.asarray(space.low, np.float64).reshape(-1), np.asarray(space.high, np.float64).reshape(-1)
+    theirs_low = np.asarray(recorded.get("low", []), np.float64).reshape(-1)
+    theirs_high = np.asarray(recorded.get("high", []), np.float64).reshape(-1)
+    if list(recorded.get("shape", [])) != list(space.shape) or theirs_low.shape != low.shape:
+        return False
+    # float32 bounds written as float64 (and back): equal to float32's precision.
+    close = lambda a, b: np.allclose(a, b, rtol=1e-6, atol=0.0, equal_nan=False)  # noqa: E731
+    return bool(close(theirs_low, low) and close(theirs_high, high))
+
+
+def _described_box(recorded: dict) -> str:
+    return (f"Box(low={recorded.get('low')}, high={recorded.get('high')}, "
+            f"shape={tuple(recorded.get('shape', ()))})")
+
+
+def check_demos_env(where: str, spec: dict, allow_other_env: bool) -> None:
+    """Refuses demonstrations recorded in another env than ``spec``'s: a Minari dataset's
+    recorded observation and action spaces (shapes and bounds) must be the env's, and so
+    must its Gymnasium id where both name one. ``allow_other_env`` trains anyway. A
+    ``.npy`` or list of trajectories names no env: said once, with a warning."""
+    observation_space, action_space = spec["spaces"]
+    metadata_path = Path(where) / "data" / "metadata.json"
+    if not metadata_path.is_file():
+        warnings.warn(
+            f"demos {where}: nothing in them says which env they were recorded in (a .npy "
+            "or a list of trajectories); only their sizes are checked against the env",
+            stacklevel=3,
+        )
+        return
+    metadata = json.loads(metadata_path.read_text())
+    differences = []
+    for what, key, space in (("observation", "observation_space", observation_space),
+                             ("action", "action_space", action_space)):
+        recorded = _recorded_space(metadata.get(key))
+        if recorded is not None and not _same_box(recorded, space):
+            differences.append(f"{what} space {_described_box(recorded)}, the env's {space}")
+    recorded_id = None
+    env_spec = metadata.get("env_spec")
+    if isinstance(env_spec, str):
+        try:
+            recorded_id = json.loads(env_spec).get("id")
+        except (ValueError, AttributeError):
+            recorded_id = None
+    logo_id = metadata.get("logo_env_id")
+    if recorded_id is None and isinstance(logo_id, str) and logo_id in gym.registry:
+        recorded_id = logo_id  # a Gymnasium id that logo_rl.record was given
+    if recorded_id is not None and spec.get("gym_id") and recorded_id != spec["gym_id"]:
+        differences.append(f"Gymnasium id {recorded_id}, the env's {spec['gym_id']}")
+    if differences and not allow_other_env:
+        raise LogoValueError(
+            f"demos {where} were recorded in another env than env={spec['label']}: "
+            + "; ".join(differences)
+            + ". Record them in this env, or pass allow_other_env=True to train on them anyway"
+        )

@@ -17,7 +17,7 @@ except ModuleNotFoundError:  # Python 3.10
 
 from ._errors import LogoFileNotFoundError, LogoTypeError, LogoValueError
 from . import _logo_rl
-from .custom import PREFIX, demos_path, prepare
+from .custom import PREFIX, check_demos_env, demos_path, prepare
 from .policy import Policy
 from .presets import preset_path
 from .wrappers import judged
@@ -90,6 +90,7 @@ def train(
     dtype: str | None = None,
     tensorboard: bool = True,
     progress: bool | Callable[[str], None] = True,
+    allow_other_env: bool = False,
     **overrides: Any,
 ) -> Run:
     """Trains as ``logo train --config CONFIG`` does and returns the :class:`Run`.
@@ -111,7 +112,9 @@ def train(
     wrapper (:class:`logo_rl.SparseReward`) made it sparse. ``demos``: the demonstrations,
     a Minari dataset (its folder, its local id, or the dataset), a ``.npy`` of LOGO's
     ``[observation ‖ action]`` rows, or a list of ``(observations, actions)``
-    trajectories (written into the run folder); None keeps the config's.
+    trajectories (written into the run folder); None keeps the config's. A Minari
+    dataset's recorded spaces (and Gymnasium id, where both sides have one) must be the
+    env's: demonstrations of another env are refused, unless ``allow_other_env=True``.
 
     ``success``: which episodes reached the goal, counted in ``eval.json`` and read by
     ``[guidance] decay_on = "success"``. ``"task"`` (the env's ``info["is_success"]``, or
@@ -193,6 +196,7 @@ def train(
         if demos is not None:
             run_dir = Path(out) if out is not None else _run_dir_for(config, table)
             where = demos_path(demos, run_dir, spec["obs_dim"], spec["act_dim"])
+            check_demos_env(where, spec, allow_other_env)
             table = _lay_over(table, {"guidance": {"demos": where}})
     elif demos is not None:
         raise LogoValueError("demos= goes with env= (a config's own env has its demos in the config)")
