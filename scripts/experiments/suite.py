@@ -771,12 +771,16 @@ def learning_figure(keep: Path, name: str):
     figures = [(name, main_arms, main_arms),
                (f"{name}-baselines", ("logo", "trpo", *BASELINES), BASELINES)]
     legend = ["--legend", task["legend"]] if "legend" in task else []
+    # TRPO uses no demonstrations: a degraded task's is its base task's.
+    folder = {arm: keep / name / arm for arm in ARM_NAMES}
+    if "base" in task:
+        folder["trpo"] = keep / task["base"] / "trpo"
     for figure, candidates, needed in figures:
-        arms = [arm for arm in candidates if (keep / name / arm).is_dir()]
+        arms = [arm for arm in candidates if folder[arm].is_dir()]
         if not set(arms) & set(needed):
             continue
         labels = [f"--label={arm}={ARM_NAMES[arm]}" for arm in arms]
-        subprocess.run([LOGO, "plot", *(str(keep / name / arm) for arm in arms),
+        subprocess.run([LOGO, "plot", *(str(folder[arm]) for arm in arms),
                         "--metric", metric, "--stat", "iqm", "--band", "ci", "--smooth", "5",
                         *labels, *legend, "--title", f"{name}: {what} (IQM, 95% band)",
                         "--out", str(keep / f"{figure}.png")],

@@ -10,7 +10,8 @@
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 export LOGO="${LOGO:-$PWD/target/release/logo}"
-python=.venv/bin/python
+# PYTHON: the interpreter whose logo_rl the runs use (a venv pinned for the study).
+python="${PYTHON:-.venv/bin/python}"
 source scripts/experiments/queue.sh
 tasks="${*:-mountain-car-degraded reacher-goal-degraded maze-degraded}"
 for task in $tasks; do
