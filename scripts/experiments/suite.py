@@ -162,9 +162,9 @@ def mountain_car_controller(obs):
 def degraded(make_controller, gain, sigma, seed=0):
     """A worse demonstrator made from a scripted one: its action scaled by GAIN, plus
     Gaussian noise of standard deviation SIGMA, clipped to [-1, 1] (every suite task's
-    action range). Clipping keeps the noise from averaging out: the mean action a clone
-    learns is weaker than the controller's, so the demonstrations are sub-optimal in what
-    they teach, not only noisy. A maker: each call starts the noise's generator anew
+    action range). The gain makes the demonstrations sub-optimal in what a clone can learn
+    (their mean action is the scaled-down controller's), the noise spreads the outcomes
+    between episodes. A maker: each call starts the noise's generator anew
     (SEED), so that the demonstrator's play that `demos` prints and the recording draw the
     same noise on the same episodes."""
 
