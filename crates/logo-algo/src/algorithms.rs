@@ -1,7 +1,7 @@
 //! The methods of the table (`methods.rs`) as the trainer makes them: `logo algorithms`'
 //! lines, the methods `logo compare` can make from one LOGO config ([`configure`]), and
-//! the name of a config that does not say its own ([`identify`]: a config without
-//! `[algorithm]` or `method`, a run older than the name).
+//! the name checkpoints recorded before methods had names. (The method a config without
+//! a name is: `TrainConfig::identify`.)
 
 use crate::bc::{InitConfig, InitKind};
 use crate::config::{DecaySignal, GuidanceConfig, RewardConfig, TrainConfig};
@@ -70,28 +70,7 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, Invalid>
         method: Some(method.name.to_string()),
         ..base.clone()
     };
-    match method.guided {
-        Guided::Step => {
-            config.guidance = Some(guidance.clone());
-            config.init = base.init.clone();
-        }
-        // GAIL's and POfD's discriminator is LOGO's, without the guidance step.
-        Guided::Discriminator => {
-            config.guidance = Some(GuidanceConfig {
-                step: false,
-                delta0: None,
-                alpha: None,
-                warmup: None,
-                update: None,
-                critic: None,
-                decay_on: DecaySignal::default(),
-                decay_from: None,
-                grow_back: false,
-                ..guidance.clone()
-            });
-        }
-        Guided::No => {}
-    }
+    take_guidance(&mut config, base, guidance, method);
     if method.start == Start::Clone {
         // The guidance's demonstrations: named here where the method drops the guidance,
         // by default ([init] demos absent) where it keeps it.
@@ -114,73 +93,53 @@ pub fn configure(base: &TrainConfig, name: &str) -> Result<TrainConfig, Invalid>
             );
         }
     }
-    // The entry's own keys: DAPG's demonstration rows (from the guidance's demonstrations).
-    let keys: toml::Table = toml::from_str(method.keys).expect("a method's keys are TOML");
-    if let Some(rows) = keys.get("demonstration_rows") {
-        config.demonstration_rows = Some(
-            DemonstrationRowsConfig::deserialize(rows.clone())
-                .map_err(|e| format!("{name}: demonstration_rows: {}", e.message()))?,
-        );
-    }
+    config.demonstration_rows = demonstration_rows(method)?;
     config.validate()?;
     Ok(config)
 }
 
-/// The table's method whose makeup `config` has, for a config that names none (a
-/// shipped config written out in full, a run older than the name): among the methods
-/// with the same use of the guidance and the same reward sources, the one that matches
-/// most of the improvement step's kind, the start, and its own keys (every one of them
-/// in the config, with its value), the method with more keys first on a tie.
-pub fn identify(config: &TrainConfig) -> &'static str {
-    let guided = guided(config);
-    let sources = |(env, discriminator): (f64, f64)| (env != 0.0, discriminator != 0.0);
-    let reward = (config.reward.env, config.reward.discriminator);
-    let start = match config.init.kind {
-        InitKind::Bc => Start::Clone,
-        InitKind::Random => Start::Random,
-    };
-    let written = toml::Table::try_from(config).unwrap_or_default();
-    METHODS
-        .iter()
-        .filter(|m| m.command.is_none() && m.guided == guided)
-        .filter(|m| sources(m.reward) == sources(reward))
-        .max_by_key(|m| {
-            let keys: toml::Table = toml::from_str(m.keys).expect("a method's keys are TOML");
-            (
-                m.improvement == config.improvement.kind(),
-                m.start == start,
-                holds(&written, &keys),
-                keys_count(&keys),
-                // The table's order on a full tie: the earlier entry.
-                std::cmp::Reverse(METHODS.iter().position(|n| n.name == m.name)),
-            )
-        })
-        .map_or("trpo", |m| m.name)
-}
-
-/// What `config` takes of LOGO's guidance.
-pub fn guided(config: &TrainConfig) -> Guided {
-    match &config.guidance {
-        None => Guided::No,
-        Some(g) if g.step => Guided::Step,
-        Some(_) => Guided::Discriminator,
+/// What `method` takes of the LOGO config's `guidance`: all of it (LOGO's variants, and
+/// the config's `[init]` with it), its discriminator without the step (GAIL, POfD:
+/// LOGO's discriminator, without the step's keys), or nothing.
+fn take_guidance(
+    config: &mut TrainConfig,
+    base: &TrainConfig,
+    guidance: &GuidanceConfig,
+    method: &Method,
+) {
+    match method.guided {
+        Guided::Step => {
+            config.guidance = Some(guidance.clone());
+            config.init = base.init.clone();
+        }
+        Guided::Discriminator => {
+            config.guidance = Some(GuidanceConfig {
+                step: false,
+                delta0: None,
+                alpha: None,
+                warmup: None,
+                update: None,
+                critic: None,
+                decay_on: DecaySignal::default(),
+                decay_from: None,
+                grow_back: false,
+                ..guidance.clone()
+            });
+        }
+        Guided::No => {}
     }
 }
 
-/// Whether `config` has every key of `keys`, with the same value.
-fn holds(config: &toml::Table, keys: &toml::Table) -> bool {
-    keys.iter()
-        .all(|(key, value)| match (value, config.get(key)) {
-            (toml::Value::Table(inner), Some(toml::Value::Table(theirs))) => holds(theirs, inner),
-            (value, Some(theirs)) => value == theirs,
-            (_, None) => false,
+/// The entry's own `[demonstration_rows]` (DAPG's λ0, λ1; the rows are the guidance's
+/// demonstrations), or none.
+fn demonstration_rows(method: &Method) -> Result<Option<DemonstrationRowsConfig>, Invalid> {
+    let keys: toml::Table = toml::from_str(method.keys).expect("a method's keys are TOML");
+    keys.get("demonstration_rows")
+        .map(|rows| {
+            DemonstrationRowsConfig::deserialize(rows.clone())
+                .map_err(|e| format!("{}: demonstration_rows: {}", method.name, e.message()).into())
         })
-}
-
-fn keys_count(keys: &toml::Table) -> usize {
-    keys.values()
-        .map(|v| v.as_table().map_or(1, keys_count))
-        .sum()
+        .transpose()
 }
 
 /// The name checkpoints recorded before methods had names: "logo" with a guidance

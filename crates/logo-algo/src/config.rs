@@ -17,6 +17,7 @@ use crate::critic::CriticConfig;
 use crate::dapg::DemonstrationRowsConfig;
 use crate::delta_schedule::{DELTA_FLOOR, DeltaSchedule};
 use crate::episode::SuccessRule;
+use crate::methods::{Guided, METHODS, Start};
 use crate::policy_update::PolicyUpdateConfig;
 use crate::presets::{self, AlgorithmPreset};
 use crate::sampler::RolloutMode;
@@ -487,7 +488,7 @@ impl TrainConfig {
                 )
                 .into()),
             },
-            (None, None) => Ok(crate::algorithms::identify(self).to_string()),
+            (None, None) => Ok(self.identify().to_string()),
         }
     }
 
@@ -1005,6 +1006,67 @@ pub fn dims_mismatch(trained: &EnvSpec, evaluated: &EnvSpec) -> Option<Invalid> 
             trained.act_dim
         ))
     })
+}
+
+/// Which method a config is (`methods.rs`), for a config that names none.
+impl TrainConfig {
+    /// The table's method whose makeup `config` has, for a config that names none (a
+    /// shipped config written out in full, a run older than the name): among the methods
+    /// with the same use of the guidance and the same reward sources, the one that matches
+    /// most of the improvement step's kind, the start, and its own keys (every one of them
+    /// in the config, with its value), the method with more keys first on a tie.
+    pub fn identify(&self) -> &'static str {
+        let config = self;
+        let guided = self.guided();
+        let sources = |(env, discriminator): (f64, f64)| (env != 0.0, discriminator != 0.0);
+        let reward = (config.reward.env, config.reward.discriminator);
+        let start = match config.init.kind {
+            InitKind::Bc => Start::Clone,
+            InitKind::Random => Start::Random,
+        };
+        let written = toml::Table::try_from(config).unwrap_or_default();
+        METHODS
+            .iter()
+            .filter(|m| m.command.is_none() && m.guided == guided)
+            .filter(|m| sources(m.reward) == sources(reward))
+            .max_by_key(|m| {
+                let keys: toml::Table = toml::from_str(m.keys).expect("a method's keys are TOML");
+                (
+                    m.improvement == config.improvement.kind(),
+                    m.start == start,
+                    holds(&written, &keys),
+                    keys_count(&keys),
+                    // The table's order on a full tie: the earlier entry.
+                    std::cmp::Reverse(METHODS.iter().position(|n| n.name == m.name)),
+                )
+            })
+            .map_or("trpo", |m| m.name)
+    }
+
+    /// What `config` takes of LOGO's guidance.
+    pub fn guided(&self) -> Guided {
+        match &self.guidance {
+            None => Guided::No,
+            Some(g) if g.step => Guided::Step,
+            Some(_) => Guided::Discriminator,
+        }
+    }
+}
+
+/// Whether `config` has every key of `keys`, with the same value.
+fn holds(config: &toml::Table, keys: &toml::Table) -> bool {
+    keys.iter()
+        .all(|(key, value)| match (value, config.get(key)) {
+            (toml::Value::Table(inner), Some(toml::Value::Table(theirs))) => holds(theirs, inner),
+            (value, Some(theirs)) => value == theirs,
+            (_, None) => false,
+        })
+}
+
+fn keys_count(keys: &toml::Table) -> usize {
+    keys.values()
+        .map(|v| v.as_table().map_or(1, keys_count))
+        .sum()
 }
 
 #[cfg(test)]

@@ -239,10 +239,9 @@ impl LearnerState {
 /// agree on the guidance, else (a run older than the name, a stored config edited since)
 /// the one its keys make.
 fn algorithm(config: &TrainConfig) -> String {
-    use crate::algorithms::{guided, identify, method};
-    match config.method.as_deref().and_then(method) {
-        Some(m) if m.guided == guided(config) => m.name.to_string(),
-        _ => identify(config).to_string(),
+    match config.method.as_deref().and_then(crate::methods::method) {
+        Some(m) if m.guided == config.guided() => m.name.to_string(),
+        _ => config.identify().to_string(),
     }
 }
 
