@@ -144,7 +144,7 @@ pub struct TrainConfig {
     pub preset: Option<AlgorithmPreset>,
     /// The method this config is (`methods.rs`), as a run records it (its config.toml,
     /// its checkpoints' algorithm): `[algorithm] name`'s, else the config's own `method`,
-    /// else the method whose makeup the config has (`algorithms::identify`). Absent only
+    /// else the method whose makeup the config has ([`TrainConfig::identify`]). Absent only
     /// in runs older than it, which are identified by their keys.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub method: Option<String>,
@@ -402,7 +402,8 @@ impl TrainConfig {
         if overrides.is_empty() && removed.is_empty() {
             return Self::parse(&text, path, base);
         }
-        let mut table = Self::read_table(path)?;
+        let mut table: toml::Table =
+            toml::from_str(&text).map_err(|e| ConfigError::toml(path, &e))?;
         for key in removed {
             table.remove(*key);
         }
@@ -1016,8 +1017,7 @@ impl TrainConfig {
     /// most of the improvement step's kind, the start, and its own keys (every one of them
     /// in the config, with its value), the method with more keys first on a tie.
     pub fn identify(&self) -> &'static str {
-        let config = self;
-        let guided = self.guided();
+        let (config, guided) = (self, self.guided());
         let sources = |(env, discriminator): (f64, f64)| (env != 0.0, discriminator != 0.0);
         let reward = (config.reward.env, config.reward.discriminator);
         let start = match config.init.kind {
@@ -1027,9 +1027,10 @@ impl TrainConfig {
         let written = toml::Table::try_from(config).unwrap_or_default();
         METHODS
             .iter()
-            .filter(|m| m.command.is_none() && m.guided == guided)
-            .filter(|m| sources(m.reward) == sources(reward))
-            .max_by_key(|m| {
+            .enumerate()
+            .filter(|(_, m)| m.command.is_none() && m.guided == guided)
+            .filter(|(_, m)| sources(m.reward) == sources(reward))
+            .max_by_key(|&(at, m)| {
                 let keys: toml::Table = toml::from_str(m.keys).expect("a method's keys are TOML");
                 (
                     m.improvement == config.improvement.kind(),
@@ -1037,10 +1038,10 @@ impl TrainConfig {
                     holds(&written, &keys),
                     keys_count(&keys),
                     // The table's order on a full tie: the earlier entry.
-                    std::cmp::Reverse(METHODS.iter().position(|n| n.name == m.name)),
+                    std::cmp::Reverse(at),
                 )
             })
-            .map_or("trpo", |m| m.name)
+            .map_or("trpo", |(_, m)| m.name)
     }
 
     /// What `config` takes of LOGO's guidance.

@@ -8,7 +8,7 @@
 //! name (`method`), not `[algorithm]`.
 
 use crate::error::Invalid;
-use crate::methods::{Guided, METHODS, Start};
+use crate::methods::{Guided, METHODS, Start, method};
 use serde::{Deserialize, Serialize};
 
 /// Every preset's name: the table's methods that are configs of the trainer.
@@ -32,9 +32,7 @@ pub struct AlgorithmPreset {
 /// step and its start from the clone, where they differ from TRPO's; and what the method
 /// takes of LOGO's guidance (and so needs of the config's `[guidance]`).
 fn preset(name: &str) -> Option<(String, Guided)> {
-    let method = METHODS
-        .iter()
-        .find(|m| m.name == name && m.command.is_none())?;
+    let method = method(name).filter(|m| m.command.is_none())?;
     // The entry's keys first: they may hold top-level keys (dtype), which must come
     // before any table.
     let mut keys = method.keys.to_string();
