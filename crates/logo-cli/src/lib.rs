@@ -5,6 +5,7 @@
 pub mod bc;
 pub mod data;
 pub mod eval;
+pub mod export;
 pub mod final_eval;
 pub mod rollout;
 pub mod train;

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use logo_cli::{bc, data, eval, rollout, train};
+use logo_cli::{bc, data, eval, export, rollout, train};
 use logo_lab::{bench, compare, plot, summary, sweep};
 
 #[derive(Parser)]
@@ -29,6 +29,9 @@ enum Command {
     Bc(bc::BcArgs),
     /// Evaluate a checkpoint's mean-action policy: dense and sparse return, mean ± std.
     Eval(eval::EvalArgs),
+    /// Write a checkpoint's policy alone (tensors and observation statistics, bit for
+    /// bit): the form a run is kept in; `logo eval` plays it as it does the checkpoint.
+    Export(export::ExportArgs),
     /// Run episodes with a fixed (random or zero) policy and print dense and sparse returns.
     Rollout(rollout::RolloutArgs),
     /// Measure throughput (see docs/benchmarks.md).
@@ -120,6 +123,7 @@ fn main() -> ExitCode {
         }
         Command::Bc(args) => bc::run(&args),
         Command::Eval(args) => eval::run(&args),
+        Command::Export(args) => export::run(&args),
         Command::Bench(cmd) => bench::run(&cmd),
         Command::Data(cmd) => data::run(&cmd),
         Command::Sweep(args) => sweep::run(&args),

@@ -280,6 +280,20 @@ impl Checkpoint {
         Ok(module)
     }
 
+    /// Keeps only the tensors under the given prefixes (`policy` keeps `policy.*`), and
+    /// only those networks in the metadata: what a file that others read need hold.
+    pub fn retain_prefixes(&mut self, prefixes: &[&str]) {
+        let kept = |name: &str| {
+            prefixes
+                .iter()
+                .any(|p| name.strip_prefix(p).is_some_and(|rest| rest.starts_with('.')))
+        };
+        self.tensors.retain(|name, _| kept(name));
+        self.meta
+            .networks
+            .retain(|name, _| prefixes.contains(&name.as_str()));
+    }
+
     pub fn tensor_names(&self) -> impl Iterator<Item = &str> {
         self.tensors.keys().map(String::as_str)
     }

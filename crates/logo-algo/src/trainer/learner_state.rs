@@ -253,6 +253,14 @@ fn read_record(
     iterations: Option<usize>,
 ) -> Result<(TrainConfig, Learned), TrainError> {
     let extra = &ckpt.meta.extra;
+    if !extra["exported"].is_null() {
+        return Err(TrainError::Resume(
+            "is a policy alone (`logo export`), with no learner state to go on from: resume \
+             the run's own checkpoint.safetensors (a page that extends a kept run names the \
+             commit that holds it)"
+                .into(),
+        ));
+    }
     let mut config: TrainConfig = serde_json::from_value(extra["config"].clone())
         .map_err(|e| TrainError::Resume(format!("metadata config: {e}")))?;
     let learned = migrate(&extra["resume"], &config)?;
