@@ -392,14 +392,34 @@ CANDIDATES = {
     "logo-eval-waiting": {"alpha": 0.9, "decay_on": "evaluation", "decay_from": 0.9},
     "logo-eval-following": {"alpha": 0.9, "decay_on": "evaluation", "decay_from": 0.9,
                             "grow_back": True},
+    # `logo-letting-go`: δ_k held until an evaluation's share at the goal reaches the
+    # demonstrations' own (DEMONSTRATED), then shrinking by 0.9 after each such one.
+    "logo-letting-go": {"alpha": 0.9, "decay_on": "evaluation",
+                        "decay_from": "demonstrations"},
 }
+
+
+def candidate_keys(arm: str, name: str, required: bool = True) -> dict | None:
+    """CANDIDATES[ARM] for task NAME: a level of "demonstrations" is the share of the
+    task's demonstration episodes that reached the goal. A task without a goal has none:
+    an error where REQUIRED, else None (the arm is not made for it)."""
+    keys = dict(CANDIDATES[arm])
+    if keys.get("decay_from") == "demonstrations":
+        reached = DEMONSTRATED[name]["reached"]
+        if reached is None:
+            if not required:
+                return None
+            raise SystemExit(f"{arm}: {name} has no goal, so its demonstrations have no "
+                             "success share to let the guidance go at")
+        keys["decay_from"] = reached[0] / reached[1]
+    return keys
 
 
 # Arms that start from the demonstrations' clone: the named arm's config with `[init] kind =
 # "bc"` (behaviour cloning on the guidance's demonstrations before the first iteration),
 # nothing else changed. `bc-logo`: the new-task preset from the clone, the first probe of
 # LOGO that keeps the clone (run only when named by --arms).
-CLONE_STARTED = {"bc-logo": "logo"}
+CLONE_STARTED = {"bc-logo": "logo", "bc-logo-letting-go": "logo-letting-go"}
 
 
 # The seed's Figure 1 baselines (docs/algorithms.md), each the task's LOGO config made into
@@ -477,9 +497,12 @@ def configs(out: Path, name: str) -> list[Path]:
     cut = body.index("[guidance]")
     trpo = folder / "trpo.toml"
     write_if_changed(trpo, header + top + body[:cut].rstrip() + "\n")
-    for arm, keys in CANDIDATES.items():
+    made = [arm for arm in CANDIDATES if candidate_keys(arm, name, required=False)]
+    for arm in made:
+        keys = candidate_keys(arm, name)
         write_if_changed(folder / f"{arm}.toml", header + top + candidate(body, arm, keys) + "\n")
-    for arm, source in CLONE_STARTED.items():
+    made += [arm for arm, source in CLONE_STARTED.items() if source in ("logo", *made)]
+    for arm, source in [(a, s) for a, s in CLONE_STARTED.items() if a in made]:
         text = (folder / f"{source}.toml").read_text()
         if "\n[init]" in text:
             raise SystemExit(f"{folder / source}.toml has an [init] table already: {arm} would "
@@ -488,8 +511,7 @@ def configs(out: Path, name: str) -> list[Path]:
                          text + f"\n# {arm}: {source}'s config from the demonstrations' clone "
                          "(scripts/experiments/suite.py CLONE_STARTED)\n[init]\nkind = \"bc\"\n")
     baselines = [baseline_config(out, method, logo) for method in BASELINES]
-    return ([logo, trpo] + [folder / f"{arm}.toml" for arm in CANDIDATES]
-            + [folder / f"{arm}.toml" for arm in CLONE_STARTED] + baselines)
+    return [logo, trpo] + [folder / f"{arm}.toml" for arm in made] + baselines
 
 
 def candidate(body: str, arm: str, keys: dict) -> str:
@@ -576,10 +598,13 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
         raise SystemExit(f"logo_rl's new-task preset is not {PRESET} as it is now (the package "
                          "was built before the file changed): build it again, scripts/setup.sh")
     for arm in [a for a in ("logo", *CLONE_STARTED) if a in arms]:
-        refuse_other_runs(folder / "runs" / arm, preset)
-    for arm in CANDIDATES.keys() & set(arms):
-        guidance = {**preset["guidance"], **CANDIDATES[arm]}
-        refuse_other_runs(folder / "runs" / arm, {**preset, "guidance": guidance})
+        if CLONE_STARTED.get(arm, "logo") == "logo":
+            refuse_other_runs(folder / "runs" / arm, preset)
+    for arm in [a for a in CLONE_STARTED if a in arms] + sorted(CANDIDATES.keys() & set(arms)):
+        source = CLONE_STARTED.get(arm, arm)
+        if source in CANDIDATES:
+            guidance = {**preset["guidance"], **candidate_keys(source, name)}
+            refuse_other_runs(folder / "runs" / arm, {**preset, "guidance": guidance})
     demos = ROOT / "data" / "suite" / name / "demos"
     n = iterations or task["budget"] // preset["samples_per_iter"]
     # Each arm's config and keys for logo_rl.train: the preset with the arm's own keys, or
@@ -587,12 +612,10 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
     starts = {}
     for arm in [a for a in ("logo", *CANDIDATES, *CLONE_STARTED, "trpo") if a in arms]:
         arm_keys = {"guidance": None} if arm == "trpo" else {"demos": demos}
-        if arm in CANDIDATES:
-            arm_keys["guidance"] = CANDIDATES[arm]
+        source = CLONE_STARTED.get(arm, arm)
+        if source in CANDIDATES:
+            arm_keys["guidance"] = candidate_keys(source, name)
         if arm in CLONE_STARTED:
-            if CLONE_STARTED[arm] != "logo":
-                raise SystemExit(f"{arm}: a Python task's clone-started arm starts from the "
-                                 "preset's config (logo) alone")
             arm_keys["init"] = {"kind": "bc"}
         starts[arm] = ("new-task", dict(iterations=n, success=task["success"], **arm_keys))
     for method in [m for m in BASELINES if m in arms]:
