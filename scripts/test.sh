@@ -36,6 +36,11 @@ echo "== the tables of docs/findings/ and docs/history.md vs the metrics in docs
 .venv/bin/python scripts/check_results.py
 .venv/bin/python tests/python/check_results_fails.py
 
+echo "== what every clone fetches: file sizes, docs/results/ and runs/ (scripts/check_sizes.sh)"
+./scripts/check_sizes.sh
+python3 scripts/slim_results.py --check
+./tests/python/check_sizes_fails.sh
+
 echo "== every relative link and section link in the Markdown resolves"
 python3 scripts/check_links.py
 python3 tests/python/check_links_fails.py

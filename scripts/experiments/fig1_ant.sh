@@ -12,11 +12,14 @@ logo="${LOGO:-./target/release/logo}"
 # A pinned copy of the binary finds MuJoCo here, not by its relative runpath.
 export LD_LIBRARY_PATH="$PWD/third_party/mujoco/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 kept=docs/results/new-task/ant
+# docs/results keeps their policies alone: their learner checkpoints come back from the
+# commit that holds them (restore_run.sh), so that compare counts the runs done.
+scripts/experiments/restore_run.sh runs/kept "$kept"/runs/{logo,trpo}/seed{0,1,2} >/dev/null
 for method in logo trpo; do
   for seed in 0 1 2; do
     if [ ! -e "$out/$method/seed$seed" ]; then
       mkdir -p "$out/$method"
-      cp -r "$kept/runs/$method/seed$seed" "$out/$method/seed$seed"
+      cp -r "runs/kept/$kept/runs/$method/seed$seed" "$out/$method/seed$seed"
     fi
   done
 done

@@ -8,6 +8,9 @@
 # checkpoints and evaluations stay as the 10M tables cite them: CONFIGS=logo runs LOGO
 # only, and FROM=DIR first copies into OUT the LOGO runs of DIR that OUT lacks, e.g.
 #   FROM=docs/results/paper-scale CONFIGS=logo paper_scale.sh runs/paper-scale-30m 2 1500
+# docs/results keeps policies alone now: DIR is a folder of learner checkpoints, e.g. the
+# one restore_run.sh makes (restore_run.sh runs/kept docs/results/paper-scale/<env>/...,
+# then FROM=runs/kept/docs/results/paper-scale).
 # Usage: [CONFIGS=logo] [FROM=DIR] paper_scale.sh [OUT] [JOBS] [ITERATIONS] [ENGINE_ARGS...]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -50,7 +53,11 @@ main() {
       # committed 2M checkpoints in float64, as it trained: does it fall after its peak
       # as the reference rerun did, or rise as the reference's own curve does?
       local arm="$out/halfcheetah/halfcheetah_reference_fisher"
-      [ -d "$arm" ] || cp -r docs/results/halfcheetah-fall/halfcheetah_reference_fisher "$arm"
+      if [ ! -d "$arm" ]; then
+        local kept=docs/results/halfcheetah-fall/halfcheetah_reference_fisher
+        scripts/experiments/restore_run.sh runs/kept "$kept"/seed{0,1,2}
+        cp -r "runs/kept/$kept" "$arm"
+      fi
       "$logo" sweep configs/experiments/halfcheetah_reference_fisher.toml --seeds 0..3 \
         --jobs "$jobs" --threads "$(nproc)" --iterations "$iterations" --out "$out/$env" \
         --dtype f64 || failed=1

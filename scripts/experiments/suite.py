@@ -216,7 +216,7 @@ TASKS = {
         success="task",
         budget=2_000_000,
         demonstrator=trained("docs/results/new-task/ant/behaviour/checkpoint.safetensors"),
-        dataset="docs/results/new-task/ant/demos",
+        dataset="data/suite/ant-distance/demos",
         episodes=20,
     ),
     # A delayed reward: Hopper's dense return paid once, on the episode's last step. The

@@ -29,7 +29,7 @@ place() { [ -e "$2" ] || { rm -rf "$2.partial" && cp -r "$1" "$2.partial" && mv 
       else place "docs/results/suite/$task/logo" "$runs/logo-decayed"; fi
     fi
   done
-  held=runs/suite-why/ant-distance/runs/logo-held
+  held=docs/results/suite-why/ant-distance/runs/logo-held
   mkdir -p runs/suite/ant-distance/runs/logo
   for seed in 0 1 2; do
     [ -f "$held/seed$seed/eval.json" ] || continue

@@ -14,14 +14,25 @@ use logo_nn::Checkpoint;
 pub const EXPORTED: &str = "exported";
 
 /// The metadata a policy keeps: what the evaluation and the loaders read.
-const KEPT_EXTRA: &[&str] = &["config", "engine", "engines", "samples", "observation_layout"];
+const KEPT_EXTRA: &[&str] = &[
+    "config",
+    "engine",
+    "engines",
+    "samples",
+    "observation_layout",
+];
 
 #[derive(Args)]
 pub struct ExportArgs {
     /// A checkpoint (`checkpoint.safetensors`, `best.safetensors`) or a `logo bc` policy.
+    #[arg(long)]
     checkpoint: PathBuf,
     /// Where the policy goes.
-    #[arg(long, conflicts_with = "in_place", required_unless_present = "in_place")]
+    #[arg(
+        long,
+        conflicts_with = "in_place",
+        required_unless_present = "in_place"
+    )]
     out: Option<PathBuf>,
     /// Replace the checkpoint by its policy (written beside it, then renamed over it).
     #[arg(long)]

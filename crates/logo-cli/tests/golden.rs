@@ -286,9 +286,10 @@ fn sparse_kinds_in_the_config_train_as_the_logo_ids() {
     }
 }
 
-/// One kept run of each checkpoint family under `docs/results/`: every algorithm, step
-/// kind, critic kind, float type and env form a kept checkpoint has, and the older
-/// config layouts among them.
+/// One kept run of each checkpoint family (`tests/fixtures/kept-runs/`, where they moved
+/// from `docs/results/` when the docs kept policies alone): every algorithm, step kind,
+/// critic kind, float type and env form a kept checkpoint has, and the older config
+/// layouts among them.
 const KEPT_FAMILIES: &[&str] = &[
     "paper-scale/hopper/hopper/seed0",
     "paper-scale/hopper/hopper_ppo_cdq_skip_rewardless/seed2",
@@ -308,7 +309,7 @@ const KEPT_FAMILIES: &[&str] = &[
 /// window, the optimisers' moments and the sampler's position, which one iteration's
 /// tensors need not show.
 fn resume_digest(kept: &str) -> String {
-    let from = root().join("docs/results").join(kept);
+    let from = root().join("tests/fixtures/kept-runs").join(kept);
     let dir = std::env::temp_dir().join(format!(
         "logo-golden-{}-resume-{}",
         std::process::id(),

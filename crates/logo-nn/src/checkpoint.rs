@@ -284,9 +284,10 @@ impl Checkpoint {
     /// only those networks in the metadata: what a file that others read need hold.
     pub fn retain_prefixes(&mut self, prefixes: &[&str]) {
         let kept = |name: &str| {
-            prefixes
-                .iter()
-                .any(|p| name.strip_prefix(p).is_some_and(|rest| rest.starts_with('.')))
+            prefixes.iter().any(|p| {
+                name.strip_prefix(p)
+                    .is_some_and(|rest| rest.starts_with('.'))
+            })
         };
         self.tensors.retain(|name, _| kept(name));
         self.meta
