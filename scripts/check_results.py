@@ -83,8 +83,9 @@ holds seed*/ runs, and a .csv path is one run):
                                   BUDGET (a group may be an outside curve's folder of
                                   seed*.csv); intervals as in arms; the verdict "ahead" or
                                   "behind" where the difference's interval excludes 0,
-                                  "level" where it holds 0 and is narrower than 2000, else
-                                  "unresolved", with ", suggests" under 5 seeds a side;
+                                  "level" where it holds 0 and both ends are within 25% of the
+                                  smaller IQM (LEVEL_SHARE), else "cannot separate", with
+                                  ", suggests" under 5 seeds a side;
            [max=SAMPLES|budget]   every run read up to SAMPLES, or to its row's budget
                                   (`logo summary --max-samples`)
   config   file=PATH              a settings table: the first column `[table] key` or
@@ -101,15 +102,27 @@ holds seed*/ runs, and a .csv path is one run):
                                   method)" as in arms; "—" for LOGO's own row
   matrix   rows=A@BUDGET:W;...    a grid of verdicts, a row per group A (its first cell a free
            rRcC=B ...             label) and a column per method (the header free): each cell
-           [level=N]              rRcC (1-based body row and column) "VERDICT DIFF [LO, HI]"
+                                  rRcC (1-based body row and column) "VERDICT DIFF [LO, HI]"
                                   for A against B, each seed's mean of its W evaluations nearest
                                   BUDGET, runs read up to BUDGET (whole, as `logo summary`
                                   without --max-samples, where the row ends in +): the IQM
                                   difference A − B and
                                   its interval as in versus, the verdict by versus' rule from
-                                  the printed interval (level where it holds 0 and is narrower
-                                  than N, default 2000; ", suggests" under 5 seeds a side);
+                                  the printed interval (versus' level; ", suggests" under 5
+                                  seeds a side);
                                   every other cell after the first column "—"
+  answer   rows=MEASURE=G,...;... the README's task × method table, a row per task: the
+           [prose=N]              columns after "task" and "measure" are methods, each G the
+                                  runs of the column's method (its folder's name says which)
+                                  or "-" (a cell "—"); MEASURE "final" (final policies'
+                                  return, eval.json) or "window@B:W[+]" (dense evaluations as
+                                  matrix rows; a BC folder's final dense return): each cell
+                                  the IQM over 5 seeds; the last "**LEADER**; ahead of ...;
+                                  level with ...; cannot separate from ..." by versus' rule on
+                                  the leader's difference with each; with prose=N, the words of
+                                  the section around the table (tables and comments left out)
+                                  are at most N
+  none                            a table with no data to recompute (a map of the repository)
   target   rows=A>B;...           the suite's target per task, a row each: A a LOGO arm's
                                   group suite/TASK/logo…, B suite/TASK/trpo, 5 seeds each, the
                                   demonstrations' level suite_arms.py's; columns task (TASK in
@@ -450,25 +463,33 @@ def improvement_agrees(cell, xs, ys):
     return band_agrees(cell, probability_of_improvement(xs, ys), draws, 0.0)
 
 
-def verdict(lo, hi, seeds, level=2000.0):
-    """versus' rule on an interval of a difference: ahead or behind where it excludes 0,
-    level where it holds 0 and is narrower than LEVEL, else unresolved; ", suggests"
-    where a side has fewer than 5 seeds."""
-    word = "ahead" if lo > 0 else "behind" if hi < 0 else "level" if hi - lo < level else "unresolved"
+# "Level" is an interval narrow against the values compared: both its ends within this
+# share of the smaller of the two IQMs. The one rule every page's verdicts follow.
+LEVEL_SHARE = 0.25
+
+
+def verdict(lo, hi, seeds, scale):
+    """The verdict on an interval [LO, HI] of a difference A − B whose smaller IQM is
+    SCALE: "ahead" or "behind" where it excludes 0; "level" where it holds 0 and both
+    ends are within LEVEL_SHARE of SCALE (a positive SCALE); else "cannot separate";
+    ", suggests" where a side has fewer than 5 seeds."""
+    narrow = scale > 0 and max(abs(lo), abs(hi)) <= LEVEL_SHARE * scale
+    word = ("ahead" if lo > 0 else "behind" if hi < 0 else "level" if narrow
+            else "cannot separate")
     return word + (", suggests" if min(seeds) < 5 else "")
 
 
-def verdict_agrees(printed, cell, draws, seeds, level=2000.0):
+def verdict_agrees(printed, cell, draws, seeds, scale):
     """The printed verdict is its cell's printed interval's, and one the recomputed draws
     give with each end anywhere in its band (quantiles 0.5% either side, as band_agrees):
-    an end printed across 0, or across LEVEL's width, within the interval's tolerance
+    an end printed across 0, or across the level's bound, within the interval's tolerance
     still fails."""
     ends = numbers(cell)
-    if len(ends) < 3 or printed != verdict(ends[1][0], ends[2][0], seeds, level):
+    if len(ends) < 3 or printed != verdict(ends[1][0], ends[2][0], seeds, scale):
         return False
     lows = (quantile(draws, 0.02), quantile(draws, 0.03))
     highs = (quantile(draws, 0.97), quantile(draws, 0.98))
-    return printed in {verdict(lo, hi, seeds, level) for lo in lows for hi in highs}
+    return printed in {verdict(lo, hi, seeds, scale) for lo in lows for hi in highs}
 
 
 def exact_cell(body, header, wrong, r, c, text):
@@ -588,6 +609,95 @@ def check_target(opts, header, body, compare, wrong):
 
 MATRIX_LABEL = re.compile(r"\((\d+)(?: seeds)? × ([\d.]+[kM])\)")
 
+# The last cell of an answer row: the leader, then whom its interval puts it ahead of,
+# level with and cannot separate it from (each list may be absent).
+ANSWER_LEADER = re.compile(
+    r"\*\*(?P<leader>[^*]+)\*\*"
+    r"(?:; ahead of (?P<ahead>[^;]+))?(?:; level with (?P<level>[^;]+))?"
+    r"(?:; cannot separate from (?P<open>[^;]+))?")
+
+
+def answer_values(measure, group):
+    """One method's values on an answer row, a seed each: `final`, the final policies'
+    return on the task's own reward (eval.json, BC's policy.eval.json); `window@B:W[+]`,
+    each run's mean of its W dense evaluations nearest B (read up to B, or whole with +),
+    or for a BC folder (no curve) its final policy's dense return over its episodes."""
+    if measure == "final":
+        return [f["return"] for f in suite_finals(group)]
+    m = re.fullmatch(r"window@([\d.]+[kM]?):(\d+)(\+?)", measure)
+    if not m:
+        raise SystemExit(f"answer: measure {measure!r} is not final or window@BUDGET:W[+]")
+    budget, window = parse_samples(m.group(1)), int(m.group(2))
+    if not any((ROOT / "docs/results" / group).glob("seed*/metrics.csv*")):
+        return [f["dense_return"] for f in suite_finals(group)]
+    return window_values(group, budget, window, math.inf if m.group(3) else budget)
+
+
+# The method an answer column names, by the folder its runs are in.
+ANSWER_METHODS = {"logo": "LOGO", "trpo": "TRPO", "bc": "BC", "gail": "GAIL", "pofd": "POfD",
+                  "bc-trpo": "BC-TRPO", "dapg": "DAPG", "bc-logo": "LOGO from the clone"}
+
+
+def check_answer(opts, header, body, wrong):
+    """The `answer` kind (see the module's docstring); returns the cells checked."""
+    checked = 0
+    specs = opts["rows"].split(";")
+    if len(specs) != len(body):
+        raise SystemExit(f"answer: {len(specs)} row specs for {len(body)} rows")
+    methods = header[2:-1]
+    for r, spec in enumerate(specs):
+        measure, _, groups = spec.partition("=")
+        groups = groups.split(",")
+        if len(groups) != len(methods):
+            raise SystemExit(f"answer: row {r + 1} names {len(groups)} groups for "
+                             f"{len(methods)} methods")
+        values = {}
+        for c, (method, group) in enumerate(zip(methods, groups), start=2):
+            if group == "-":
+                checked += exact_cell(body, header, wrong, r, c, "—")
+                continue
+            named = ANSWER_METHODS.get(Path(group).name.lower())
+            if named != method:
+                raise SystemExit(f"answer: row {r + 1}: {group} is {named}'s runs, in the "
+                                 f"column of {method}")
+            xs = answer_values(measure, group)
+            if len(xs) < 5:
+                raise SystemExit(f"answer: {group}: {len(xs)} seeds, 5 expected")
+            values[method] = xs
+            checked += 1
+            cell = numbers(body[r][c])
+            if len(cell) != 1 or abs(cell[0][0] - iqm(xs)) > 0.5 * cell[0][1] + 1e-9:
+                wrong.append((r + 1, header[c], body[r][c], f"{iqm(xs):.1f}"))
+        leader = max(values, key=lambda m: iqm(values[m]))
+        groups_of = {"ahead": [], "level": [], "open": []}
+        for method, ys in values.items():
+            if method == leader:
+                continue
+            xs = values[leader]
+            lo, hi = percentile_interval(bootstrap_two_draws(xs, ys, lambda u, v: iqm(u) - iqm(v)))
+            word = verdict(lo, hi, (len(xs), len(ys)), min(iqm(xs), iqm(ys)))
+            groups_of["ahead" if word == "ahead" else "level" if word == "level" else "open"].append(method)
+        said = ANSWER_LEADER.fullmatch(body[r][-1].strip())
+        expected = f"**{leader}**" + "".join(
+            f"; {words} {', '.join(groups_of[key])}" for key, words in
+            (("ahead", "ahead of"), ("level", "level with"), ("open", "cannot separate from"))
+            if groups_of[key])
+        checked += 1
+        if said is None or body[r][-1].strip() != expected:
+            wrong.append((r + 1, header[-1], body[r][-1], expected))
+    prose = opts.get("prose")
+    return checked, prose
+
+
+def prose_words(lines, table_line):
+    """The words of the section holding the table at TABLE_LINE (1-based: its header),
+    its tables and comments left out: from the heading above it to the next heading."""
+    start = max(i for i in range(table_line) if lines[i].startswith("#"))
+    end = next((i for i in range(table_line, len(lines)) if lines[i].startswith("#")), len(lines))
+    text = [x for x in lines[start + 1:end] if not x.startswith(("|", "<!--"))]
+    return len(" ".join(text).split())
+
+
 
 def check_matrix(opts, header, body, wrong):
     """The `matrix` kind (see the module's docstring); returns the cells it checked."""
@@ -595,7 +705,6 @@ def check_matrix(opts, header, body, wrong):
     rows = opts["rows"].split(";")
     if len(rows) != len(body):
         raise SystemExit(f"matrix: {len(rows)} rows named for {len(body)} in the table")
-    level = float(opts.get("level", 2000))
     named = {}
     for key, other in opts.items():
         m = re.fullmatch(r"r(\d+)c(\d+)", key)
@@ -631,6 +740,7 @@ def check_matrix(opts, header, body, wrong):
             difference = lambda u, v: iqm(u) - iqm(v)  # noqa: E731
             draws = bootstrap_two_draws(xs, ys, difference)
             point, (lo, hi) = difference(xs, ys), percentile_interval(draws)
+            scale = min(iqm(xs), iqm(ys))
             cell = body[r][c]
             split = re.search(r"[−-]?\d", cell)
             printed, figures = (cell[:split.start()].strip(), cell[split.start():]) if split else (cell, "")
@@ -638,8 +748,8 @@ def check_matrix(opts, header, body, wrong):
             if len(numbers(figures)) != 3 or not interval_agrees(
                     figures, point, (lo, hi), 0.05 * (max(xs + ys) - min(xs + ys))):
                 wrong.append((r + 1, header[c], cell, f"{point:.1f} [{lo:.1f}, {hi:.1f}]"))
-            elif not verdict_agrees(printed, figures, draws, (len(xs), len(ys)), level):
-                wrong.append((r + 1, header[c], cell, verdict(lo, hi, (len(xs), len(ys)), level)))
+            elif not verdict_agrees(printed, figures, draws, (len(xs), len(ys)), scale):
+                wrong.append((r + 1, header[c], cell, verdict(lo, hi, (len(xs), len(ys)), scale)))
     return checked
 
 # ---------------------------------------------------------------- comparing
@@ -721,10 +831,12 @@ OPTIONS = {
     "versus": {"rows", "max"},
     "evaljson": {"rows"},
     "suite": {"rows", "demos", "demos_return"},
-    "matrix": {"rows", "level", "rXcY"},
+    "matrix": {"rows", "rXcY"},
     "target": {"rows", "policy", "quoted"},
     "goal": {"rows"},
     "config": {"file"},
+    "answer": {"rows", "prose"},
+    "none": set(),
 }
 
 
@@ -985,8 +1097,10 @@ def check_table(kind, opts, header, body):
             # The verdict: the printed interval's, and one the bootstrap gives (verdict()).
             seeds = (len(xs), len(ys))
             checked += 1
-            if not verdict_agrees(row[8].strip().split(" (")[0], row[7], differences, seeds):
-                wrong.append((r + 1, header[8], row[8], verdict(*percentile_interval(differences), seeds)))
+            scale = min(iqm(xs), iqm(ys))
+            if not verdict_agrees(row[8].strip().split(" (")[0], row[7], differences, seeds, scale):
+                wrong.append((r + 1, header[8], row[8],
+                              verdict(*percentile_interval(differences), seeds, scale)))
     elif kind == "evaljson":
         columns = {
             "final: return": ("final", "mean_action", "return"),
@@ -1028,6 +1142,11 @@ def check_table(kind, opts, header, body):
         checked += intervals  # after the call: `compare` counts its cells into `checked`
     elif kind == "matrix":
         checked += check_matrix(opts, header, body, wrong)
+    elif kind == "answer":
+        n, _ = check_answer(opts, header, body, wrong)
+        checked += n
+    elif kind == "none":
+        pass  # a map of the repository, no data: nothing to recompute
     elif kind == "target":
         intervals = check_target(opts, header, body, compare, wrong)
         checked += intervals  # after the call, as for `suite`
@@ -1090,6 +1209,7 @@ def check_table(kind, opts, header, body):
 
 def main():
     docs = [Path(a) for a in sys.argv[1:]] or [
+        ROOT / "README.md",
         ROOT / "docs/results.md",
         *sorted((ROOT / "docs/findings").glob("*.md")),
         ROOT / "docs/history.md",
@@ -1124,6 +1244,11 @@ def check_doc(doc):
             print(f"{where}: cannot check ({type(e).__name__}: {e})")
             failures += 1
             continue
+        if kind == "answer" and "prose" in opts:
+            words, limit = prose_words(lines, line), int(opts["prose"])
+            checked += 1
+            if words > limit:
+                wrong.append((0, "prose", f"{words} words", f"at most {limit}"))
         cells += checked
         note = f", quoted columns {quoted}" if quoted else ""
         print(f"{where}: {kind}, {checked} cells{note}: {'ok' if not wrong else 'MISMATCH'}")

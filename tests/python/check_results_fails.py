@@ -113,7 +113,7 @@ CONFIG = """<!-- check config file=configs/templates/new_task.toml -->
 VERSUS = """<!-- check versus rows=variants-idp/logo-inverted_double_pendulum>reference-curves/v4/idp@200k:5 -->
 | task | budget | logo-rl: IQM [95% CI] | seeds | reference: IQM [95% CI] | seeds | P(logo-rl > reference) [95% CI] | IQM difference [95% CI] | verdict |
 | --- | --- | --- | --- | --- | --- | --- | --- | --- |
-| sparse IDP | 200k | 8033 [4536, 9354] | 5 | 8994 [4225, 9342] | 5 | 0.52 [0.00, 0.88] | −961 [−4092, 3996] | unresolved |
+| sparse IDP | 200k | 8033 [4536, 9354] | 5 | 8994 [4225, 9342] | 5 | 0.52 [0.00, 0.88] | −961 [−4092, 3996] | cannot separate |
 """
 
 # A suite task's final policies (suite.py report): goals per seed, the target, P and IQMs.
@@ -138,8 +138,21 @@ TARGET = """<!-- check target rows=suite/reacher-goal/logo>suite/reacher-goal/tr
 MATRIX = """<!-- check matrix rows=fig1-idp/logo@200k:5+;new-task/ant/runs/logo@2M:10 r1c2=fig1-idp/gail r1c3=fig1-idp/trpo r2c2=fig1-ant/gail -->
 | LOGO against | GAIL | TRPO |
 | --- | --- | --- |
-| sparse IDP (5 seeds × 200k) | unresolved −1276 [−4336, 484] | ahead 7699 [4207, 9022] |
+| sparse IDP (5 seeds × 200k) | cannot separate −1276 [−4336, 484] | ahead 7699 [4207, 9022] |
 | sparse Ant (3 × 2M) | behind, suggests −343 [−574, −112] | — |
+"""
+
+# The README's answer: each method's IQM on a row, the leader and whom its interval puts it
+# ahead of, level with or cannot separate it from; the section's prose within its words.
+ANSWER = """## Does it work?
+
+Two rows of the README's table.
+
+<!-- check answer prose=20 rows=final=suite/reacher-goal/logo,suite/reacher-goal/trpo,suite/reacher-goal/bc,-;final=suite/mountain-car-degraded/logo,suite/mountain-car/trpo,suite/mountain-car-degraded/bc,suite/mountain-car-degraded/dapg -->
+| task | measure | LOGO | TRPO | BC | DAPG | who leads |
+| --- | --- | --- | --- | --- | --- | --- |
+| Reacher | final policies' return | 39.7 | 41.5 | 1.8 | — | **TRPO**; ahead of BC; level with LOGO |
+| MountainCarContinuous, degraded | final policies' return | 96.9 | 62.3 | −0.4 | 96.3 | **LOGO**; ahead of BC; cannot separate from TRPO, DAPG |
 """
 
 
@@ -155,7 +168,8 @@ def check(text):
 def main():
     failures = []
     goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS,
-             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS, SUITE, TARGET, MATRIX)
+             EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS, SUITE, TARGET, MATRIX,
+             ANSWER)
     for good in goods:
         code, out = check(good)
         if code != 0:
@@ -206,7 +220,8 @@ def main():
         "a goal table's seeds in another order": GOAL.replace("8, 20, 0, 20, 20", "20, 20, 20, 8, 0"),
         "a wrong reference IQM": VERSUS.replace("8994 [", "8894 ["),
         "a wrong reference seed count": VERSUS.replace("| 5 | 0.52", "| 4 | 0.52"),
-        "a verdict the interval does not support": VERSUS.replace("| unresolved |", "| level |"),
+        "a verdict the interval does not support": VERSUS.replace("| cannot separate |", "| level |"),
+        "a verdict by the old fixed-width rule": VERSUS.replace("| cannot separate |", "| unresolved |"),
         "a P interval end outside the bootstrap's band": VERSUS.replace("[0.00, 0.88]", "[0.00, 0.60]"),
         "rows read up to the budget, the cells not": VERSUS.replace("check versus rows", "check versus max=budget rows"),
         "a wrong difference interval": VERSUS.replace("[−4092, 3996]", "[−4092, −100]"),
@@ -228,7 +243,7 @@ def main():
         "a target against another task's TRPO": TARGET.replace("hopper-delayed/trpo", "maze/trpo"),
         "a target with an unnamed column": TARGET.replace(" quoted=6", ""),
         "a target read from the final policies, the best named": TARGET.replace("check target", "check target policy=best"),
-        "a grid's verdict the interval does not give": MATRIX.replace("unresolved −1276", "level −1276"),
+        "a grid's verdict the interval does not give": MATRIX.replace("cannot separate −1276", "level −1276"),
         "a grid's cell without its few seeds said": MATRIX.replace("behind, suggests", "behind"),
         "a grid's wrong difference": MATRIX.replace("7699 [", "7600 ["),
         "a grid read up to the budget, its cells not": MATRIX.replace("200k:5+;", "200k:5;"),
@@ -238,12 +253,21 @@ def main():
         "a grid's columns named the other way": MATRIX.replace("| LOGO against | GAIL | TRPO |", "| LOGO against | TRPO | GAIL |"),
         "a grid's text after the interval": MATRIX.replace("[4207, 9022] |", "[4207, 9022] over 9 seeds |"),
         "a grid's cell outside the table": MATRIX.replace(" -->", " r3c2=fig1-idp/gail -->", 1),
-        "a grid whose level= makes a verdict level": MATRIX.replace(" -->", " level=10000 -->", 1),
+        "a grid with the level= it no longer reads": MATRIX.replace(" -->", " level=10000 -->", 1),
         "a target whose demonstrations it does not meet": TARGET.replace("| not met: the demonstrations |", "| not met: both |"),
         "a target against another arm of the task": TARGET.replace("maze/trpo", "maze/logo"),
         "a target's reading checked as quoted": TARGET.replace("quoted=6", "quoted=4,6"),
         "a suite table with an option it does not read": SUITE.replace("check suite", "check suite policy=best"),
         "a versus table with an option it does not read": VERSUS.replace("check versus", "check versus level=5000"),
+        "an answer's wrong IQM": ANSWER.replace("| 39.7 |", "| 39.9 |"),
+        "an answer's wrong leader": ANSWER.replace("**TRPO**; ahead of BC; level with LOGO", "**LOGO**; ahead of BC; level with TRPO"),
+        "an answer's level that its interval puts ahead": ANSWER.replace("**TRPO**; ahead of BC; level with LOGO", "**TRPO**; ahead of BC, LOGO"),
+        "an answer's leader ahead of one its interval cannot separate": ANSWER.replace("ahead of BC; cannot separate from TRPO, DAPG", "ahead of BC, TRPO; cannot separate from DAPG"),
+        "an answer that leaves out whom it cannot separate": ANSWER.replace("; cannot separate from TRPO, DAPG", ""),
+        "an answer's level where the interval is wide": ANSWER.replace("cannot separate from TRPO, DAPG", "level with TRPO, DAPG"),
+        "an answer's value where no group is named": ANSWER.replace("| 1.8 | — |", "| 1.8 | 41.1 |"),
+        "an answer whose prose is over its words": ANSWER.replace("Two rows of the README's table.", "Two rows of the README's table, and after them a good many more words than the twenty that the check allows this section here."),
+        "an answer's columns named the other way": ANSWER.replace("| LOGO | TRPO | BC |", "| TRPO | LOGO | BC |"),
         "a grid's cells swapped": MATRIX.replace("r1c2=fig1-idp/gail r1c3=fig1-idp/trpo", "r1c2=fig1-idp/trpo r1c3=fig1-idp/gail"),
     }
     for name, text in cases.items():
