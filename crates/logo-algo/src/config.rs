@@ -284,7 +284,9 @@ pub struct GuidanceConfig {
     /// With `decay_on = "success"` or `"evaluation"`: δ_k shrinks only where at least
     /// this share of the episodes read reached the goal (in (0, 1]), instead of where it
     /// beats the ten before; it waits for the agent. A task that reports no success never
-    /// reaches it, so δ_k holds there. Default: unset (LOGO's rule).
+    /// reaches it, so δ_k holds there. `"demonstrations"` in a file: the share of the
+    /// demonstrations' episodes at the goal as their recording wrote it, read in as that
+    /// number. Default: unset (LOGO's rule).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decay_from: Option<f64>,
     /// With `decay_from`: where the share falls short of it, δ_k grows back by 1/α, up to
@@ -377,6 +379,51 @@ fn lay_over(under: &mut toml::Table, top: toml::Table) {
     }
 }
 
+/// `[guidance] decay_from = "demonstrations"`: the level is the share of the
+/// demonstrations' episodes that reached the goal, as their recording wrote it; it is put
+/// in as that number, so the run's saved config names the level it ran with. Whether the
+/// table had it (and so changed).
+fn demonstrations_level(table: &mut toml::Table, base: &Path) -> Result<bool, String> {
+    let Some(g) = table
+        .get_mut("guidance")
+        .and_then(toml::Value::as_table_mut)
+    else {
+        return Ok(false);
+    };
+    match g.get("decay_from") {
+        Some(toml::Value::String(word)) if word == DEMONSTRATIONS_LEVEL => {}
+        Some(toml::Value::String(word)) => {
+            return Err(format!(
+                "guidance.decay_from = {word:?}: expected a share of episodes in (0, 1], or \
+                 \"{DEMONSTRATIONS_LEVEL}\" (the demonstrations' own success rate)"
+            ));
+        }
+        _ => return Ok(false),
+    }
+    let said = format!("guidance.decay_from = \"{DEMONSTRATIONS_LEVEL}\"");
+    let demos = g
+        .get("demos")
+        .and_then(toml::Value::as_str)
+        .ok_or_else(|| {
+            format!(
+                "{said} needs guidance.demos: the dataset whose recorded success rate is the level"
+            )
+        })?;
+    let rate = logo_data::minari::recorded_success_rate(&base.join(demos))
+        .map_err(|e| format!("{said}: {e}; set decay_from to a share instead"))?;
+    if !(rate > 0.0 && rate <= 1.0) {
+        return Err(format!(
+            "{said}: the demonstrations ({demos}) reached the goal in a share {rate} of their \
+             episodes, and a level must be in (0, 1]; set decay_from to a share instead"
+        ));
+    }
+    g.insert("decay_from".into(), toml::Value::Float(rate));
+    Ok(true)
+}
+
+/// The word `decay_from` takes for the demonstrations' own success rate.
+pub const DEMONSTRATIONS_LEVEL: &str = "demonstrations";
+
 impl TrainConfig {
     /// Reads and checks a config; relative paths inside become relative to its folder.
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
@@ -429,13 +476,18 @@ impl TrainConfig {
 
     fn parse(text: &str, path: &Path, base: &Path) -> Result<Self, ConfigError> {
         let toml_error = |e: toml::de::Error| ConfigError::toml(path, &e);
-        let table: toml::Table = toml::from_str(text).map_err(toml_error)?;
+        let refused = |e: String| ConfigError::refused(path, e.into());
+        let mut table: toml::Table = toml::from_str(text).map_err(toml_error)?;
         let mut config: TrainConfig = match table.contains_key("algorithm") {
             // `[algorithm] name`: the preset's keys under the config's own.
             true => {
-                let expanded =
+                let mut expanded =
                     presets::expand(table, lay_over).map_err(|e| ConfigError::refused(path, e))?;
+                demonstrations_level(&mut expanded, base).map_err(refused)?;
                 TrainConfig::deserialize(expanded).map_err(toml_error)?
+            }
+            false if demonstrations_level(&mut table, base).map_err(refused)? => {
+                TrainConfig::deserialize(table).map_err(toml_error)?
             }
             // Read from the text, so that an error points at its line.
             false => toml::from_str(text).map_err(toml_error)?,

@@ -78,3 +78,63 @@ fn a_decay_on_the_evaluation_reads_the_mean_actions_episodes() {
         "{e}"
     );
 }
+
+/// `decay_from = "demonstrations"`: the level is the demonstrations' recorded success rate,
+/// read in as that number (the saved config names it); where nothing records one, the
+/// config is refused naming the key, the dataset and what to set instead.
+#[test]
+fn a_level_of_demonstrations_is_their_recorded_success_rate() {
+    let dir = scratch("decay-from-demonstrations");
+    let data = logo_testkit::workspace().join("data/suite");
+    let reacher = |demos: &std::path::Path, level: &str| {
+        let text = format!(
+            "env = \"Reacher-v5+goal(0.02)\"\nsuccess = \"task\"\niterations = 2\n\
+             samples_per_iter = 500\n[guidance]\n\
+             demos = {:?}\ndelta0 = 0.01\nalpha = 0.9\nwarmup = 5\n\
+             decay_on = \"evaluation\"\ndecay_from = {level}\n",
+            demos.display().to_string()
+        );
+        let path = dir.join("config.toml");
+        std::fs::write(&path, text).unwrap();
+        TrainConfig::load(&path)
+    };
+    // The degraded Reacher set reached the goal in 10 of its 20 episodes.
+    let degraded = data.join("reacher-goal-degraded/demos");
+    let config = reacher(&degraded, "\"demonstrations\"").unwrap();
+    let level = config.guidance.as_ref().unwrap().decay_from;
+    assert_eq!(level, Some(0.5));
+    // The same as the number written out: one schedule, one saved config.
+    let written = reacher(&degraded, "0.5").unwrap();
+    assert_eq!(config.guidance, written.guidance);
+    assert_eq!(
+        config.guidance.as_ref().unwrap().schedule(),
+        written.guidance.as_ref().unwrap().schedule()
+    );
+    // The suite's own Reacher set: 20 of 20.
+    let own = reacher(&data.join("reacher-goal/demos"), "\"demonstrations\"").unwrap();
+    assert_eq!(own.guidance.unwrap().decay_from, Some(1.0));
+    // A recording without a success rate (MountainCarContinuous' degraded set was recorded
+    // without a success rule), a .npy, another word: refused, saying what to set.
+    let refused =
+        |demos: &std::path::Path, level: &str| reacher(demos, level).unwrap_err().to_string();
+    let e = refused(
+        &data.join("mountain-car-degraded/demos"),
+        "\"demonstrations\"",
+    );
+    assert!(
+        e.contains("guidance.decay_from = \"demonstrations\"")
+            && e.contains("logo_recording.success_rate is not recorded")
+            && e.contains("set decay_from to a share instead"),
+        "{e}"
+    );
+    let npy = dir.join("demos.npy");
+    logo_testkit::write_demos_npy(&npy, 10, 12);
+    let e = refused(&npy, "\"demonstrations\"");
+    assert!(e.contains("a .npy records no success rate"), "{e}");
+    let e = refused(&degraded, "\"demos\"");
+    assert!(
+        e.contains("guidance.decay_from = \"demos\": expected a share of episodes in (0, 1], or \"demonstrations\""),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -23,6 +23,32 @@ fn metadata_path(dir: &Path) -> PathBuf {
     dir.join("data").join("metadata.json")
 }
 
+/// The share of a recorded dataset's episodes that reached the goal, as its recorder wrote
+/// it (`metadata.json`'s `logo_recording.success_rate`: `logo data record`,
+/// `logo_rl.record`). An error says what is missing: no Minari dataset at `dir`, or one
+/// whose recording did not say (made elsewhere, or on a task without a goal).
+pub fn recorded_success_rate(dir: &Path) -> Result<f64, String> {
+    if !is_minari_dir(dir) {
+        return Err(format!(
+            "{}: not a Minari dataset folder (a .npy records no success rate)",
+            dir.display()
+        ));
+    }
+    let path = metadata_path(dir);
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let meta: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    meta["logo_recording"]["success_rate"]
+        .as_f64()
+        .ok_or_else(|| {
+            format!(
+                "{}: logo_recording.success_rate is not recorded (the dataset was made without a \
+             success rule, or not by logo data record / logo_rl.record)",
+                path.display()
+            )
+        })
+}
+
 /// Whether `path` looks like a Minari dataset folder.
 pub fn is_minari_dir(path: &Path) -> bool {
     hdf5_path(path).is_file()
