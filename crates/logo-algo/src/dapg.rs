@@ -74,15 +74,24 @@ impl DemonstrationRows {
     /// Loads `path` for the env `spec`; `key` names the config key in errors.
     pub fn load(path: &std::path::Path, key: &str, spec: &EnvSpec) -> Result<Self, TrainError> {
         let demos = Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim).at(key)?;
+        Self::of(&demos, path, key)
+    }
+
+    /// The rows of `demos`, read from `path` (named, with `key`, in an error).
+    pub fn of(
+        demos: &Demonstrations,
+        path: &std::path::Path,
+        key: &str,
+    ) -> Result<Self, TrainError> {
         if demos.is_empty() {
             let empty = Invalid::Value(format!("{} holds no pairs", path.display()));
             return Err(TrainError::from(empty).at(key));
         }
         Ok(Self::new(
-            demos.obs,
-            demos.actions,
-            spec.obs_dim,
-            spec.act_dim,
+            demos.obs.clone(),
+            demos.actions.clone(),
+            demos.obs_dim,
+            demos.act_dim,
         ))
     }
 

@@ -23,7 +23,8 @@ mod recorder;
 mod resources;
 mod schedule;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::sync::Arc;
 
 use logo_data::Demonstrations;
@@ -32,6 +33,7 @@ use logo_nn::{ActingPolicy, Engine, ObservationStats, Policy};
 
 use crate::bc::{self, BcReport, InitKind};
 use crate::config::TrainConfig;
+use crate::dapg::DemonstrationRows;
 pub use crate::error::TrainError;
 use crate::error::{At, Invalid};
 use crate::metrics::IterationMetrics;
@@ -61,13 +63,14 @@ impl<E: Engine> Trainer<E> {
         let factory = config.env.factory()?;
         let spec = factory.spec();
         let mut state = LearnerState::initial(&config, spec.obs_dim, spec.act_dim)?;
-        let cloned = behaviour_clone(&engine, &config, spec, &mut state.networks)?;
+        let mut demos = DemonstrationSets::new(spec);
+        let cloned = behaviour_clone(&engine, &config, &mut demos, &mut state.networks)?;
         if let Some(report) = &cloned {
             let path = run.path().join("bc.json");
             std::fs::write(&path, serde_json::to_string_pretty(report)?)
                 .map_err(|e| TrainError::io(&path, e))?;
         }
-        let mut trainer = Self::assemble(engine, config, run, &factory, state)?;
+        let mut trainer = Self::assemble(engine, config, run, &factory, state, &mut demos)?;
         trainer.behaviour_cloning = cloned;
         Ok(trainer)
     }
@@ -91,7 +94,8 @@ impl<E: Engine> Trainer<E> {
         let (config, state) = LearnerState::load(&run.checkpoint_path(), iterations)?;
         let (iteration, samples) = (state.learned.iteration, state.learned.samples);
         let factory = config.env.factory()?;
-        let mut trainer = Self::assemble(engine, config, run, &factory, state)?;
+        let mut demos = DemonstrationSets::new(factory.spec());
+        let mut trainer = Self::assemble(engine, config, run, &factory, state, &mut demos)?;
         // metrics.csv, the clock and the best policy as of the checkpoint.
         let recorder = &mut trainer.recorder;
         let checkpoint = recorder.checkpoint_path();
@@ -101,26 +105,30 @@ impl<E: Engine> Trainer<E> {
         Ok(trainer)
     }
 
-    /// The trainer of a run of `config` from `state`, on the envs `factory` makes.
+    /// The trainer of a run of `config` from `state`, on the envs `factory` makes, with
+    /// the demonstrations `demos` reads (the discriminator's, DAPG's rows).
     fn assemble(
         engine: E,
         config: TrainConfig,
         run: RunDir,
         factory: &EnvFactory,
         state: LearnerState,
+        demos: &mut DemonstrationSets,
     ) -> Result<Self, TrainError> {
         let spec = factory.spec();
         let checkpoint = run.checkpoint_path();
         check_dims(&state.networks, spec.obs_dim, spec.act_dim).at(checkpoint.display())?;
-        let demos = match config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
-            Some(path) => Some(
-                Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim)
-                    .at("guidance.demos")?,
-            ),
+        let discriminator_demos = match config.guidance.as_ref().and_then(|g| g.demos.as_ref()) {
+            Some(path) => Some(demos.read(path, "guidance.demos")?),
             None => None,
         };
-        let learner = Learner::from_state(&engine, &config, &state, demos.as_ref())?;
-        let mut resources = Resources::build(engine, &config, factory, state.networks)?;
+        let rows = match config.demonstration_rows_demos() {
+            Some((key, path)) => Some(DemonstrationRows::of(&*demos.read(path, key)?, path, key)?),
+            None => None,
+        };
+        let learner =
+            Learner::from_state(&engine, &config, &state, discriminator_demos.as_deref())?;
+        let mut resources = Resources::build(engine, &config, factory, state.networks, rows)?;
         if let Some(sampler) = &state.learned.sampler {
             resources
                 .collector
@@ -212,7 +220,7 @@ impl<E: Engine> Trainer<E> {
 fn behaviour_clone<E: Engine>(
     engine: &E,
     config: &TrainConfig,
-    spec: &EnvSpec,
+    demos: &mut DemonstrationSets,
     networks: &mut Networks,
 ) -> Result<Option<BcReport>, TrainError> {
     if config.init.kind != InitKind::Bc {
@@ -225,7 +233,7 @@ fn behaviour_clone<E: Engine>(
     let path = config
         .bc_demos()
         .ok_or_else(|| Invalid::Value(format!("{key} is not set")))?;
-    let demos = Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim).at(key)?;
+    let demos = demos.read(path, key)?;
     let mut obs = demos.obs.clone();
     if let Some(norm) = networks.observation_norm.as_mut() {
         let mut stats = ObservationStats::from_module(norm);
@@ -239,4 +247,33 @@ fn behaviour_clone<E: Engine>(
         bc::clone_policy(engine, &policy, pairs, &config.init, config.seed, key)?;
     networks.policy = fitted.to_module(engine, networks.policy.clone());
     Ok(Some(report))
+}
+
+/// A run's demonstration datasets, each read once, however many of the run's parts use it
+/// (the clone, the discriminator, DAPG's rows), and checked against the env as it is read.
+struct DemonstrationSets<'a> {
+    spec: &'a EnvSpec,
+    read: Vec<(PathBuf, Rc<Demonstrations>)>,
+}
+
+impl<'a> DemonstrationSets<'a> {
+    fn new(spec: &'a EnvSpec) -> Self {
+        Self {
+            spec,
+            read: Vec::new(),
+        }
+    }
+
+    /// The dataset at `path`, read the first time it is asked for; `key` names the config
+    /// key in an error.
+    fn read(&mut self, path: &Path, key: &str) -> Result<Rc<Demonstrations>, TrainError> {
+        if let Some((_, demos)) = self.read.iter().find(|(p, _)| p == path) {
+            return Ok(Rc::clone(demos));
+        }
+        let spec = self.spec;
+        let demos =
+            Rc::new(Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim).at(key)?);
+        self.read.push((path.to_path_buf(), Rc::clone(&demos)));
+        Ok(demos)
+    }
 }

@@ -42,6 +42,7 @@ impl<E: Engine> Resources<E> {
         config: &TrainConfig,
         factory: &EnvFactory,
         shapes: Networks,
+        demonstrations: Option<DemonstrationRows>,
     ) -> Result<Self, TrainError> {
         let spec = factory.spec();
         let evaluator = Evaluator::new(config, spec)?;
@@ -58,10 +59,6 @@ impl<E: Engine> Resources<E> {
             venv: VecEnv::on_caller_pool(factory, config.num_envs, config.seed)?,
             sampler: sampler(config, spec),
             rng: streams::sampler(config.seed),
-        };
-        let demonstrations = match config.demonstration_rows_demos() {
-            Some((key, path)) => Some(DemonstrationRows::load(path, key, spec)?),
-            None => None,
         };
         Ok(Self {
             engine,
