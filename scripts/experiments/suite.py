@@ -19,7 +19,7 @@ policy), all from the demonstrations in data/suite/<task>/demos (--arms: only th
 candidate preset, CANDIDATES below, and the seed's Figure 1 baselines, BASELINES below,
 run only when named there). `list` prints the tasks.
 
-    .venv/bin/python scripts/experiments/suite.py report OUT [TASK ...] [--keep DOCS]
+    .venv/bin/python scripts/experiments/suite.py report OUT [TASK ...] [--keep DOCS] [--reference ARM]
 
 prints each task's table (the final policies' returns as IQM with 95% bootstrap intervals,
 how often each seed's final policy reached the goal, the target against the
@@ -674,11 +674,13 @@ def bc_evaluation(folder: Path):
     (folder / "policy.eval.json").write_text(json.dumps(doc, indent=2) + "\n")
 
 
-def task_table(out: Path, name: str, keep: Path | None) -> str:
+def task_table(out: Path, name: str, keep: Path | None, reference: str = "logo") -> str:
     """One task's table and its check comment, whose groups name the folders --keep
     copies to (relative to docs/results/; docs/results/suite without --keep). An arm with
     no finished run under OUT is read from --keep, where an earlier report copied it (its
-    runs since deleted from OUT), so a report of new arms keeps the old ones in the table."""
+    runs since deleted from OUT), so a report of new arms keeps the old ones in the table.
+    REFERENCE: the arm every other is compared with, in the first row ("LOGO" in the
+    header's P and difference columns)."""
     runs = out / name / "runs"
     kept_task = keep / name if keep is not None else None
     seeds: dict[str, list[tuple[int, dict]]] = {}
@@ -692,6 +694,9 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
         source["trpo"] = kept_base if kept_base is not None and kept_base.is_dir() \
             else out / base / "runs" / "trpo"
     arms = [a for a in REPORTED if a in ARMS or source[a].is_dir()]
+    if reference not in arms:
+        raise SystemExit(f"{name}: no runs of the reference arm {reference}")
+    arms = [reference] + [a for a in arms if a != reference]
     for arm in arms:
         copying = (kept_task is not None and source[arm] != kept_task / arm
                    and not (arm == "trpo" and "base" in TASKS[name]))
@@ -738,8 +743,8 @@ def task_table(out: Path, name: str, keep: Path | None) -> str:
             cells.append("— (no goal)")
             met = sum(v >= demo["return"] for v in x)
         cells.append(f"{met} of {len(x)}")
-        y = returns["logo"]
-        if arm == "logo" or not y:
+        y = returns[reference]
+        if arm == reference or not y:
             cells += ["—", "—"]
         else:
             difference = lambda a, b: iqm(a) - iqm(b)  # noqa: E731
@@ -810,11 +815,11 @@ def learning_figure(keep: Path, name: str):
                        check=True, env=LOGO_ENVIRONMENT, stdout=subprocess.DEVNULL)
 
 
-def report(out: Path, names, keep: Path | None):
+def report(out: Path, names, keep: Path | None, reference: str = "logo"):
     for name in names:
         task = TASKS[name]
         print(f"### {name}: {task['kind']}, {task['env_id']}, {task['budget']:,} samples\n")
-        print(task_table(out, name, keep) + "\n")
+        print(task_table(out, name, keep, reference) + "\n")
         if keep is not None:
             learning_figure(keep, name)
 
@@ -843,6 +848,8 @@ def main(argv=None):
     p.add_argument("tasks", nargs="*", default=list(TASKS))
     p.add_argument("--keep", type=Path, default=None,
                    help="copy the finished runs' files into KEEP/<task>/<method>/seed<N>")
+    p.add_argument("--reference", default="logo", choices=REPORTED,
+                   help="the arm in the first row, which every other is compared with")
     sub.add_parser("list", help="the tasks")
     args = parser.parse_args(argv)
     if args.command == "list":
@@ -861,7 +868,7 @@ def main(argv=None):
                          "separated by commas")
         run(args.out, args.tasks, args.seeds, args.iterations, arms)
     elif args.command == "report":
-        report(args.out, args.tasks, args.keep)
+        report(args.out, args.tasks, args.keep, args.reference)
     else:
         demos(args.out, args.tasks, args.episodes, args.seed)
     return 0
