@@ -16,3 +16,19 @@ queue_item() {
   echo "[$tag] $(date -u +%FT%TZ) $label"
   "$@" || echo "[$tag] $label: not finished here (held by another copy, or failed: see its train.log)"
 }
+
+# queue_suite TAG "ARM ..." TASK...: suite.py's runs as queue items, task by task, seed by
+# seed (0-4), arm by arm; an item is done once its run's eval.json is there.
+queue_suite() {
+  local tag=$1 arms=$2 task seed arm
+  shift 2
+  for task in "$@"; do
+    for seed in 0 1 2 3 4; do
+      for arm in $arms; do
+        queue_item "$tag" "runs/suite/$task/runs/$arm/seed$seed/eval.json" \
+          "$arm $task seed$seed" "$python" scripts/experiments/suite.py run runs/suite "$task" \
+          --seeds "$seed..$((seed + 1))" --arms "$arm"
+      done
+    done
+  done
+}

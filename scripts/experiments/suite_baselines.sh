@@ -12,12 +12,5 @@ export LOGO="${LOGO:-$PWD/target/release/logo}"
 python=.venv/bin/python
 source scripts/experiments/queue.sh
 tasks="${*:-mountain-car reacher-goal maze hopper-delayed ant-distance}"
-for task in $tasks; do
-  for seed in 0 1 2 3 4; do
-    for method in gail pofd bc-trpo dapg; do
-      queue_item suite_baselines "runs/suite/$task/runs/$method/seed$seed/eval.json" \
-        "$method $task seed$seed" "$python" scripts/experiments/suite.py run runs/suite "$task" \
-        --seeds "$seed..$((seed + 1))" --arms "$method"
-    done
-  done
-done
+# shellcheck disable=SC2086 (the tasks are words)
+queue_suite suite_baselines "gail pofd bc-trpo dapg" $tasks

@@ -17,12 +17,4 @@ source scripts/experiments/queue.sh
 [ $# -ge 2 ] || { echo "usage: $0 ARM[,ARM] TASK..." >&2; exit 2; }
 arms=${1//,/ }
 shift
-for task in "$@"; do
-  for seed in 0 1 2 3 4; do
-    for arm in $arms; do
-      queue_item suite_clone_started "runs/suite/$task/runs/$arm/seed$seed/eval.json" \
-        "$arm $task seed$seed" "$python" scripts/experiments/suite.py run runs/suite "$task" \
-        --seeds "$seed..$((seed + 1))" --arms "$arm"
-    done
-  done
-done
+queue_suite suite_clone_started "$arms" "$@"
