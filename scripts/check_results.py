@@ -159,10 +159,28 @@ NUMBER = re.compile(r"-?\d[\d,]*(?:\.\d+)?(?:e[-+]?\d+)?")
 
 # ---------------------------------------------------------------- reading runs
 
+def open_kept(path):
+    """A kept file as text, decompressed where it ends in .gz (docs/results/README.md)."""
+    import gzip
+    if path.suffix == ".gz":
+        return gzip.open(path, "rt", newline="")
+    return open(path, newline="")
+
+
+def kept_file(folder, name):
+    """FOLDER/NAME, or FOLDER/NAME.gz where the run keeps it compressed; None if neither."""
+    return next((p for p in (folder / name, folder / f"{name}.gz") if p.is_file()), None)
+
+
+def read_json(path):
+    with open_kept(path) as f:
+        return json.load(f)
+
+
 def read_run(path):
     """Rows of one metrics.csv as dicts of floats (NaN where empty or not a number)."""
     rows = []
-    with open(path, newline="") as f:
+    with open_kept(path) as f:
         for raw in csv.DictReader(f):
             row = {}
             for key, value in raw.items():
@@ -180,8 +198,8 @@ def run_file(path):
     path = ROOT / "docs/results" / path
     if path.suffix == ".csv":
         return path
-    if (path / "metrics.csv").is_file():
-        return path / "metrics.csv"
+    if kept_file(path, "metrics.csv"):
+        return kept_file(path, "metrics.csv")
     raise SystemExit(f"{path}: neither a .csv nor a run folder with metrics.csv")
 
 
@@ -189,7 +207,8 @@ def group_runs(path):
     """The runs of a group folder (seed*/metrics.csv, or an outside curve's seed*.csv as
     `logo summary --external FOLDER` reads it, in seed order), or the one run."""
     base = ROOT / "docs/results" / path
-    seeds = sorted(base.glob("seed*/metrics.csv"), key=lambda p: int(p.parent.name[4:]))
+    seeds = sorted((f for f in (kept_file(d, "metrics.csv") for d in base.glob("seed*/")) if f),
+                   key=lambda p: int(p.parent.name[4:]))
     if seeds:
         return [read_run(p) for p in seeds]
     curves = sorted(base.glob("seed*.csv"), key=lambda p: int(p.stem[4:]))
@@ -436,9 +455,9 @@ def suite_finals(group, policy="final"):
     base = ROOT / "docs/results" / group
     finals = []
     for folder in sorted(base.glob("seed*"), key=lambda p: int(p.name[4:])):
-        file = next((folder / n for n in ("eval.json", "policy.eval.json") if (folder / n).is_file()), None)
+        file = kept_file(folder, "eval.json") or kept_file(folder, "policy.eval.json")
         if file is not None:
-            finals.append(json.loads(file.read_text())["policies"][policy]["mean_action"]["summary"])
+            finals.append(read_json(file)["policies"][policy]["mean_action"]["summary"])
     return finals
 
 
@@ -1116,7 +1135,8 @@ def check_table(kind, opts, header, body):
             raise SystemExit(f"evaljson: {len(groups)} groups for {len(body)} rows")
         for r, group in enumerate(groups):
             base = ROOT / "docs/results" / group
-            docs = [json.loads(p.read_text()) for p in sorted(base.glob("seed*/eval.json"))]
+            docs = [read_json(p) for p in sorted(f for f in (kept_file(d, "eval.json")
+                                                             for d in base.glob("seed*/")) if f)]
             if not docs:
                 raise SystemExit(f"evaljson: no seed*/eval.json under {base}")
             compare(r, 1, str(len(docs)))
@@ -1156,10 +1176,12 @@ def check_table(kind, opts, header, body):
             raise SystemExit(f"goal: {len(groups)} groups for {len(body)} rows")
         seed_number = lambda p: int(re.sub(r"\D", "", p.parent.name) or 0)  # noqa: E731
         for r, group in enumerate(groups):
-            files = sorted((ROOT / "docs/results" / group).glob("seed*/eval.json"), key=seed_number)
+            files = sorted((f for f in (kept_file(d, "eval.json")
+                                        for d in (ROOT / "docs/results" / group).glob("seed*/")) if f),
+                           key=seed_number)
             if not files:
                 raise SystemExit(f"goal: no seed*/eval.json under {group}")
-            docs = [json.loads(p.read_text()) for p in files]
+            docs = [read_json(p) for p in files]
             compare(r, 1, str(len(docs)))
             for c in range(2, len(header)):
                 name = header[c].lower()

@@ -30,6 +30,7 @@ and TRPO's training curves into DOCS/<task>.png.
 """
 
 import argparse
+import gzip
 import json
 import os
 import shutil
@@ -644,9 +645,11 @@ def run_python(folder: Path, name: str, seeds: str, iterations: int | None, arms
 def final_policy(folder: Path) -> dict | None:
     """A finished seed's final policy as its evaluation file holds it (a run's eval.json,
     BC's policy.eval.json), or None while it runs."""
-    for name in ("eval.json", "policy.eval.json"):
-        if (folder / name).is_file():
-            return json.loads((folder / name).read_text())["policies"]["final"]
+    for name in ("eval.json", "policy.eval.json", "eval.json.gz", "policy.eval.json.gz"):
+        path = folder / name
+        if path.is_file():
+            text = gzip.decompress(path.read_bytes()) if name.endswith(".gz") else path.read_text()
+            return json.loads(text)["policies"]["final"]
     return None
 
 
@@ -779,8 +782,8 @@ def estimate(point: float, interval: tuple[float, float], digits: int) -> str:
 def keep_seed(source: Path, dest: Path):
     """A finished seed's files for the results page: no checkpoints."""
     dest.mkdir(parents=True, exist_ok=True)
-    for name in ("metrics.csv", "config.toml", "eval.json", "policy.eval.json", "bc.txt",
-                 "bc.json"):
+    for name in ("metrics.csv", "metrics.csv.gz", "config.toml", "eval.json", "eval.json.gz",
+                 "policy.eval.json", "bc.txt", "bc.json"):
         if (source / name).is_file():
             shutil.copy2(source / name, dest / name)
 

@@ -165,8 +165,44 @@ def check(text):
         return run.returncode, run.stdout
 
 
+# Runs kept compressed (metrics.csv.gz, eval.json.gz) read as the plain ones: copies of
+# SUITE's and VERSUS's groups, gzip-compressed, under a scratch folder of docs/results.
+PACKED = ".check-results-gz"
+
+
+def packed_copies():
+    import gzip
+    import shutil
+    scratch = ROOT / "docs/results" / PACKED
+    for group in ("suite/reacher-goal/logo-decayed", "suite/reacher-goal/trpo",
+                  "suite/reacher-goal/bc", "variants-idp/logo-inverted_double_pendulum"):
+        for source in (ROOT / "docs/results" / group).glob("seed*/*"):
+            dest = scratch / group / source.parent.name / source.name
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            if source.name in ("metrics.csv", "eval.json", "policy.eval.json"):
+                with open(source, "rb") as f, gzip.open(f"{dest}.gz", "wb") as g:
+                    shutil.copyfileobj(f, g)
+            else:
+                shutil.copy(source, dest)
+    return scratch
+
+
 def main():
     failures = []
+    scratch = packed_copies()
+    try:
+        packed = (SUITE.replace("rows=suite/", f"rows={PACKED}/suite/").replace(";suite/", f";{PACKED}/suite/"),
+                  VERSUS.replace("rows=variants-idp/", f"rows={PACKED}/variants-idp/"))
+        for good in packed:
+            code, out = check(good)
+            if code != 0 or PACKED not in good:
+                failures.append(f"a correct table of compressed runs failed:\n{out}")
+        code, _ = check(packed[0].replace("41.5 [39.2", "41.4 [39.2"))
+        if code == 0:
+            failures.append("a wrong IQM of compressed runs passed")
+    finally:
+        import shutil
+        shutil.rmtree(scratch, ignore_errors=True)
     goods = (GOOD, WINDOWED, EVALS, VERDICTS, ONE_RUN_WINDOWS, CLIPPED, INTERVALS, COMPARE, ARMS,
              EVALJSON, METRIC_INTERVALS, EVALS_OWN, GOAL, CONFIG, VERSUS, SUITE, TARGET, MATRIX,
              ANSWER)

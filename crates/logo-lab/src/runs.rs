@@ -7,6 +7,7 @@
 //! reference run, from any CSV) read as single-seed runs.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail, ensure};
@@ -319,8 +320,35 @@ pub fn discover(paths: &[PathBuf], metric: &Metric) -> Result<Vec<Run>> {
     dirs.iter().map(|d| read_run(d, metric)).collect()
 }
 
+/// A run folder's file `name`, or where the folder keeps it compressed, `name.gz` (a
+/// run kept under docs/results/: docs/results/README.md); None where neither is there.
+pub fn kept_file(dir: &Path, name: &str) -> Option<PathBuf> {
+    let plain = dir.join(name);
+    let compressed = dir.join(format!("{name}.gz"));
+    [plain, compressed].into_iter().find(|p| p.is_file())
+}
+
+/// The contents of `path`, decompressed where it ends in `.gz`.
+pub fn open_kept(path: &Path) -> Result<Box<dyn Read>> {
+    let file = std::fs::File::open(path).with_context(|| format!("{}", path.display()))?;
+    let reader = std::io::BufReader::new(file);
+    Ok(match path.extension().is_some_and(|e| e == "gz") {
+        true => Box::new(flate2::bufread::GzDecoder::new(reader)),
+        false => Box::new(reader),
+    })
+}
+
+/// `open_kept` read whole as text.
+pub fn read_kept(path: &Path) -> Result<String> {
+    let mut text = String::new();
+    open_kept(path)?
+        .read_to_string(&mut text)
+        .with_context(|| format!("{}", path.display()))?;
+    Ok(text)
+}
+
 fn collect_runs(dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<()> {
-    if dir.join("metrics.csv").is_file() {
+    if kept_file(dir, "metrics.csv").is_some() {
         out.push(dir.to_path_buf());
         return Ok(());
     }
@@ -340,9 +368,8 @@ fn collect_runs(dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<()> 
 }
 
 fn read_run(dir: &Path, metric: &Metric) -> Result<Run> {
-    let path = dir.join("metrics.csv");
-    let mut reader =
-        csv::Reader::from_path(&path).with_context(|| format!("{}", path.display()))?;
+    let path = kept_file(dir, "metrics.csv").unwrap_or_else(|| dir.join("metrics.csv"));
+    let mut reader = csv::Reader::from_reader(open_kept(&path)?);
     let headers = reader
         .headers()
         .with_context(|| format!("{}", path.display()))?
@@ -618,6 +645,42 @@ mod tests {
         );
         let missing = format!("{:#}", read("critic_los", false).unwrap_err());
         assert!(missing.contains("no column \"critic_los\""), "{missing}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_kept_runs_compressed_metrics_read_as_the_plain_ones() {
+        use std::io::Write;
+        let dir = std::env::temp_dir().join(format!("logo-kept-gz-{}", std::process::id()));
+        let text = "iteration,samples,eval_dense_return\n0,100,5.0\n1,200,6.5\n";
+        let (plain, packed) = (dir.join("plain/seed0"), dir.join("packed/seed0"));
+        for d in [&plain, &packed] {
+            std::fs::create_dir_all(d).unwrap();
+        }
+        std::fs::write(plain.join("metrics.csv"), text).unwrap();
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+        gz.write_all(text.as_bytes()).unwrap();
+        std::fs::write(packed.join("metrics.csv.gz"), gz.finish().unwrap()).unwrap();
+        let metric = Metric {
+            column: EVAL_RETURN.into(),
+            log10: false,
+        };
+        let runs = discover(std::slice::from_ref(&dir), &metric).unwrap();
+        assert_eq!(runs.len(), 2, "both folders are runs");
+        assert_eq!(runs[0].points, runs[1].points);
+        assert_eq!(runs[0].points, vec![(100.0, 5.0), (200.0, 6.5)]);
+        assert_eq!(
+            kept_file(&packed, "metrics.csv"),
+            Some(packed.join("metrics.csv.gz"))
+        );
+        assert_eq!(kept_file(&packed, "eval.json"), None);
+        // A damaged archive is an error naming the file, not a panic or an empty run.
+        std::fs::write(packed.join("metrics.csv.gz"), b"not gzip").unwrap();
+        let err = format!(
+            "{:#}",
+            discover(std::slice::from_ref(&dir), &metric).unwrap_err()
+        );
+        assert!(err.contains("metrics.csv.gz"), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -355,14 +355,14 @@ const EVAL_JSON_COLUMNS: [(&str, &str, &str, &str); 5] = [
 pub fn eval_json_table(runs: &[Run], bootstrap: &Bootstrap) -> Result<Option<String>> {
     let mut groups: BTreeMap<&str, Vec<serde_json::Value>> = BTreeMap::new();
     for run in runs {
-        let Some(path) = run.dir.as_ref().map(|d| d.join("eval.json")) else {
+        let Some(path) = run
+            .dir
+            .as_ref()
+            .and_then(|d| crate::runs::kept_file(d, "eval.json"))
+        else {
             continue;
         };
-        if !path.is_file() {
-            continue;
-        }
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let text = crate::runs::read_kept(&path)?;
         let doc: serde_json::Value = serde_json::from_str(&text)
             .map_err(|e| anyhow::anyhow!("{}: not an eval.json ({e})", path.display()))?;
         groups
