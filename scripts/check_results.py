@@ -711,7 +711,7 @@ def check_answer(opts, header, body, wrong):
 def prose_words(lines, table_line):
     """The words of the section holding the table at TABLE_LINE (1-based: its header),
     its tables and comments left out: from the heading above it to the next heading."""
-    start = max(i for i in range(table_line) if lines[i].startswith("#"))
+    start = max((i for i in range(table_line) if lines[i].startswith("#")), default=-1)
     end = next((i for i in range(table_line, len(lines)) if lines[i].startswith("#")), len(lines))
     text = [x for x in lines[start + 1:end] if not x.startswith(("|", "<!--"))]
     return len(" ".join(text).split())

@@ -18,7 +18,8 @@ queue_item() {
 }
 
 # queue_suite TAG "ARM ..." TASK...: suite.py's runs as queue items, task by task, seed by
-# seed (0-4), arm by arm; an item is done once its run's eval.json is there.
+# seed (0-4), arm by arm; an item is done once its run's eval.json is there. The caller
+# sets $python, the interpreter whose logo_rl the runs use.
 queue_suite() {
   local tag=$1 arms=$2 task seed arm
   shift 2

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Puts back the learner checkpoints of runs kept under docs/results/, for a study that
-# extends them (paper_scale.sh, five_seeds.sh, fig1_paper.sh): since the docs keep a
+# extends them (paper_scale.sh, fig1_ant.sh use it): since the docs keep a
 # policy alone (scripts/slim_results.py), the last commit that holds each run's
 # checkpoint.safetensors and best.safetensors as the learner wrote them is HELD below.
 # Each RUN folder (e.g. docs/results/paper-scale/hopper/hopper/seed0) is copied to OUT/RUN
@@ -17,14 +17,16 @@ git cat-file -e "$held^{commit}" 2>/dev/null \
   || { echo "restore_run: commit $held is not in this clone (a shallow clone? git fetch --unshallow)" >&2; exit 1; }
 for run in "$@"; do
   run=${run%/}
-  files=$(git ls-tree --name-only "$held" "$run/") \
+  # docs/results/suite-why was runs/suite-why, a study's folder, at that commit.
+  at=${run/#docs\/results\/suite-why/runs\/suite-why}
+  files=$(git ls-tree --name-only "$held" "$at/") \
     || { echo "restore_run: $run is not a run kept at $held" >&2; exit 1; }
   [ -n "$files" ] || { echo "restore_run: $run is not a run kept at $held" >&2; exit 1; }
   mkdir -p "$out/$run"
   for file in $files; do
     case "$file" in
       *.safetensors|*/metrics.csv|*/eval.json|*/config.toml)
-        git show "$held:$file" > "$out/$file" ;;
+        git show "$held:$file" > "$out/$run/${file##*/}" ;;
     esac
   done
   echo "restore_run: $out/$run (from $held)"

@@ -348,7 +348,7 @@ def demos(out: Path, names, episodes, seed):
             print(describe(who, play(env, act, n, seed, task["success"])))
         path = out / name / "demos"
         if "dataset" in task:
-            # Kept where its study made it; the suite's folder links to it.
+            # Made by another study (the Ant study's, now in data/suite/ant-distance/demos).
             path.parent.mkdir(parents=True, exist_ok=True)
             if not path.exists():
                 path.symlink_to(os.path.relpath(ROOT / task["dataset"], path.parent))

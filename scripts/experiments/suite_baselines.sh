@@ -12,5 +12,5 @@ export LOGO="${LOGO:-$PWD/target/release/logo}"
 python=.venv/bin/python
 source scripts/experiments/queue.sh
 tasks="${*:-mountain-car reacher-goal maze hopper-delayed ant-distance}"
-# shellcheck disable=SC2086 (the tasks are words)
+# shellcheck disable=SC2086 # the tasks are words
 queue_suite suite_baselines "gail pofd bc-trpo dapg" $tasks

@@ -151,7 +151,8 @@ fn in_place_replaces_the_checkpoint_and_resume_refuses_it_by_name() {
     );
     let err = one_line_error(&cli().run(&["train", "--resume", dir.to_str().unwrap()]));
     assert!(
-        err.contains("is a policy alone (`logo export`)") && err.contains("checkpoint.safetensors"),
+        err.contains("is a policy alone (`logo export`)")
+            && err.contains(&path.display().to_string()),
         "{err}"
     );
 }

@@ -28,6 +28,9 @@ fn metadata_path(dir: &Path) -> PathBuf {
 /// `logo_rl.record`). An error says what is missing: no Minari dataset at `dir`, or one
 /// whose recording did not say (made elsewhere, or on a task without a goal).
 pub fn recorded_success_rate(dir: &Path) -> Result<f64, String> {
+    if !dir.exists() {
+        return Err(format!("{}: no such file or folder", dir.display()));
+    }
     if !is_minari_dir(dir) {
         return Err(format!(
             "{}: not a Minari dataset folder (a .npy records no success rate)",

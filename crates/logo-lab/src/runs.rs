@@ -333,7 +333,7 @@ pub fn open_kept(path: &Path) -> Result<Box<dyn Read>> {
     let file = std::fs::File::open(path).with_context(|| format!("{}", path.display()))?;
     let reader = std::io::BufReader::new(file);
     Ok(match path.extension().is_some_and(|e| e == "gz") {
-        true => Box::new(flate2::bufread::GzDecoder::new(reader)),
+        true => Box::new(flate2::bufread::MultiGzDecoder::new(reader)),
         false => Box::new(reader),
     })
 }
