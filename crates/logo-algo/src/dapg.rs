@@ -8,12 +8,11 @@
 //! mjrl's code gives the demonstrations λ0·λ1^k against advantages scaled to unit
 //! deviation, without the max; the paper's max Â is used here (docs/algorithms.md).
 
-use crate::error::{At, Invalid, TrainError};
+use crate::error::{Invalid, TrainError};
 use std::path::PathBuf;
 
 use burn::tensor::Tensor;
 use logo_data::Demonstrations;
-use logo_envs::EnvSpec;
 use logo_nn::{Engine, ObservationStats, Policy};
 use serde::{Deserialize, Serialize};
 
@@ -71,12 +70,6 @@ pub struct DemonstrationRows {
 }
 
 impl DemonstrationRows {
-    /// Loads `path` for the env `spec`; `key` names the config key in errors.
-    pub fn load(path: &std::path::Path, key: &str, spec: &EnvSpec) -> Result<Self, TrainError> {
-        let demos = Demonstrations::load(path, &spec.id, spec.obs_dim, spec.act_dim).at(key)?;
-        Self::of(&demos, path, key)
-    }
-
     /// The rows of `demos`, read from `path` (named, with `key`, in an error).
     pub fn of(
         demos: &Demonstrations,

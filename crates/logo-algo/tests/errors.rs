@@ -4,7 +4,7 @@
 
 use std::io::ErrorKind;
 
-use logo_algo::{Invalid, TrainConfig, TrainError, Trainer};
+use logo_algo::{At, Invalid, TrainConfig, TrainError, Trainer};
 use logo_nn::Kernels;
 use logo_testkit::{Tiny, scratch};
 
@@ -65,8 +65,15 @@ fn a_runs_errors_say_their_kind() {
         matches!(e.cause(), TrainError::Invalid(Invalid::Missing(_))),
         "{e:?}"
     );
-    let gone = logo_algo::dapg::DemonstrationRows::load(&dir.join("absent.npy"), "k", &spec());
-    let e = gone.err().expect("no such file");
+    let spec = spec();
+    let gone = logo_data::Demonstrations::load(
+        &dir.join("absent.npy"),
+        &spec.id,
+        spec.obs_dim,
+        spec.act_dim,
+    )
+    .at("k");
+    let e = gone.expect_err("no such file");
     let missing = match e.cause() {
         TrainError::Data(logo_data::DataError::Io { source, .. }) => source.kind(),
         other => panic!("{other:?}"),

@@ -10,18 +10,6 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use logo_nn::Checkpoint;
 
-/// The metadata key that marks an exported policy, and says where it came from.
-pub const EXPORTED: &str = "exported";
-
-/// The metadata a policy keeps: what the evaluation and the loaders read.
-const KEPT_EXTRA: &[&str] = &[
-    "config",
-    "engine",
-    "engines",
-    "samples",
-    "observation_layout",
-];
-
 #[derive(Args)]
 pub struct ExportArgs {
     /// A checkpoint (`checkpoint.safetensors`, `best.safetensors`) or a `logo bc` policy.
@@ -61,26 +49,11 @@ pub fn export(from: &Path, to: &Path) -> Result<(u64, u64)> {
     if !ckpt.meta.networks.contains_key("policy") {
         bail!("{}: the metadata lists no policy network", from.display());
     }
-    ckpt.retain_prefixes(&["policy", "observation_norm"]);
-    let extra = std::mem::take(&mut ckpt.meta.extra);
-    let mut kept = serde_json::Map::new();
-    for key in KEPT_EXTRA {
-        if let Some(value) = extra.get(*key).filter(|v| !v.is_null()) {
-            kept.insert((*key).to_string(), value.clone());
-        }
-    }
-    let source = extra
-        .get(EXPORTED)
-        .cloned()
-        .unwrap_or_else(|| serde_json::json!({ "from": file_name(from) }));
-    kept.insert(EXPORTED.into(), source);
-    ckpt.meta.extra = serde_json::Value::Object(kept);
+    let name = from
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    ckpt.make_policy_alone(&name);
     ckpt.save(to)?;
     Ok((before, size(to).with_context(|| to.display().to_string())?))
-}
-
-fn file_name(path: &Path) -> String {
-    path.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default()
 }

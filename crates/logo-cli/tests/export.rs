@@ -34,6 +34,13 @@ fn tensors_under(ckpt: &Checkpoint, prefixes: &[&str]) -> Vec<(String, Vec<f64>)
         .collect()
 }
 
+/// `logo export --checkpoint CHECKPOINT` and `rest`, as arguments.
+fn export<'a>(checkpoint: &'a Path, rest: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec!["export", "--checkpoint", checkpoint.to_str().unwrap()];
+    args.extend_from_slice(rest);
+    args
+}
+
 /// `logo eval --json`'s episodes, without the line naming the file.
 fn episodes(path: &Path) -> String {
     cli()
@@ -56,13 +63,7 @@ fn an_exported_policy_is_the_policy_alone_and_plays_the_same_episodes() {
     let from = logo_run("export").join("checkpoint.safetensors");
     let dir = from.parent().unwrap().to_path_buf();
     let out = dir.join("policy.safetensors");
-    let printed = cli().succeed(&[
-        "export",
-        "--checkpoint",
-        from.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let printed = cli().succeed(&export(&from, &["--out", out.to_str().unwrap()]));
     assert!(printed.contains("the policy alone"), "{printed}");
 
     let (before, after) = (
@@ -121,15 +122,10 @@ fn an_exported_policy_is_the_policy_alone_and_plays_the_same_episodes() {
     // The same 20 episodes, action for action, as the learner's checkpoint plays.
     assert_eq!(episodes(&from), episodes(&out));
 
-    // Exporting an exported policy changes nothing but where it says it was read.
+    // Exporting an exported policy changes nothing: it keeps the mark of the file it
+    // first came from.
     let again = dir.join("again.safetensors");
-    cli().succeed(&[
-        "export",
-        "--checkpoint",
-        out.to_str().unwrap(),
-        "--out",
-        again.to_str().unwrap(),
-    ]);
+    cli().succeed(&export(&out, &["--out", again.to_str().unwrap()]));
     assert_eq!(Checkpoint::load(&again).unwrap().meta, after.meta);
 }
 
@@ -137,12 +133,7 @@ fn an_exported_policy_is_the_policy_alone_and_plays_the_same_episodes() {
 fn in_place_replaces_the_checkpoint_and_resume_refuses_it_by_name() {
     let dir = logo_run("export-in-place");
     let path = dir.join("checkpoint.safetensors");
-    cli().succeed(&[
-        "export",
-        "--checkpoint",
-        path.to_str().unwrap(),
-        "--in-place",
-    ]);
+    cli().succeed(&export(&path, &["--in-place"]));
     assert!(
         Checkpoint::load(&path)
             .unwrap()
@@ -161,29 +152,19 @@ fn in_place_replaces_the_checkpoint_and_resume_refuses_it_by_name() {
 fn export_mistakes_are_answered_in_one_line() {
     let dir = scratch("export-mistakes");
     let missing = dir.join("none.safetensors");
-    let err = one_line_error(&cli().run(&[
-        "export",
-        "--checkpoint",
-        missing.to_str().unwrap(),
-        "--out",
-        dir.join("p.safetensors").to_str().unwrap(),
-    ]));
+    let out = dir.join("p.safetensors");
+    let err = one_line_error(&cli().run(&export(&missing, &["--out", out.to_str().unwrap()])));
     assert!(err.contains("none.safetensors"), "{err}");
     let not_one = dir.join("text.safetensors");
     std::fs::write(&not_one, "not a checkpoint").unwrap();
-    let err = one_line_error(&cli().run(&[
-        "export",
-        "--checkpoint",
-        not_one.to_str().unwrap(),
-        "--in-place",
-    ]));
+    let err = one_line_error(&cli().run(&export(&not_one, &["--in-place"])));
     assert!(
         err.contains("text.safetensors") && err.contains("not a safetensors file"),
         "{err}"
     );
     assert_eq!(std::fs::read(&not_one).unwrap(), b"not a checkpoint");
     // Neither --out nor --in-place: clap names what is missing.
-    let out = cli().run(&["export", "--checkpoint", not_one.to_str().unwrap()]);
+    let out = cli().run(&export(&not_one, &[]));
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--out"));
 }

@@ -37,19 +37,36 @@ pub fn recorded_success_rate(dir: &Path) -> Result<f64, String> {
             dir.display()
         ));
     }
-    let path = metadata_path(dir);
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let meta: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    meta["logo_recording"]["success_rate"]
-        .as_f64()
+    let meta = read_metadata(dir).map_err(|e| e.to_string())?;
+    meta.get("logo_recording")
+        .and_then(|r| r.get("success_rate"))
+        .and_then(Value::as_f64)
         .ok_or_else(|| {
             format!(
                 "{}: logo_recording.success_rate is not recorded (the dataset was made without a \
-             success rule, or not by logo data record / logo_rl.record)",
-                path.display()
+                 success rule, or not by logo data record / logo_rl.record)",
+                metadata_path(dir).display()
             )
         })
+}
+
+/// A Minari dataset folder's `metadata.json`, which must be a JSON object.
+fn read_metadata(dir: &Path) -> Result<Map<String, Value>, DataError> {
+    let meta_path = metadata_path(dir);
+    let text = std::fs::read_to_string(&meta_path).map_err(|source| DataError::Io {
+        path: meta_path.clone(),
+        source,
+    })?;
+    match serde_json::from_str(&text) {
+        Ok(Value::Object(map)) => Ok(map),
+        Ok(_) => Err(DataError::field(
+            &meta_path,
+            None,
+            "(top level)",
+            "expected a JSON object",
+        )),
+        Err(e) => Err(DataError::field(&meta_path, None, "(JSON)", &e.to_string())),
+    }
 }
 
 /// Whether `path` looks like a Minari dataset folder.
@@ -232,23 +249,7 @@ pub(crate) fn read_flags(
 /// and validates it.
 pub fn read_minari(dir: &Path) -> Result<Dataset, DataError> {
     let h5 = hdf5_path(dir);
-    let meta_path = metadata_path(dir);
-    let text = std::fs::read_to_string(&meta_path).map_err(|source| DataError::Io {
-        path: meta_path.clone(),
-        source,
-    })?;
-    let metadata: Map<String, Value> = match serde_json::from_str(&text) {
-        Ok(Value::Object(map)) => map,
-        Ok(_) => {
-            return Err(DataError::field(
-                &meta_path,
-                None,
-                "(top level)",
-                "expected a JSON object",
-            ));
-        }
-        Err(e) => return Err(DataError::field(&meta_path, None, "(JSON)", &e.to_string())),
-    };
+    let metadata = read_metadata(dir)?;
     let hdf5_error = |e: hdf5_pure::Error| DataError::Hdf5 {
         path: h5.clone(),
         reason: e.to_string(),

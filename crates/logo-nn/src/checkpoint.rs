@@ -15,6 +15,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::flat::to_f64;
 
+/// The parts of a checkpoint that a policy alone keeps: tensor prefixes and networks.
+const POLICY_PARTS: [&str; 2] = ["policy", "observation_norm"];
+/// The metadata a policy alone keeps: what loading and evaluating it read.
+const POLICY_EXTRA: [&str; 4] = ["config", "engine", "engines", "samples"];
+/// The metadata key that marks a policy alone, and says which file it came from.
+const POLICY_ALONE: &str = "exported";
+
 /// Bumped when the layout of names or metadata changes incompatibly.
 pub const FORMAT_VERSION: u32 = 1;
 const META_KEY: &str = "logo_rl";
@@ -280,11 +287,14 @@ impl Checkpoint {
         Ok(module)
     }
 
-    /// Keeps only the tensors under the given prefixes (`policy` keeps `policy.*`), and
-    /// only those networks in the metadata: what a file that others read need hold.
-    pub fn retain_prefixes(&mut self, prefixes: &[&str]) {
+    /// Makes this checkpoint its policy alone, the form a run is kept in (`logo export`):
+    /// the policy's and the observation statistics' tensors as they are, the metadata that
+    /// loading and evaluating a policy read (env, sizes, config, engine history), none of
+    /// the critics, discriminator or resume state, and a mark saying which file it came
+    /// from (`from`; a policy made from a policy keeps its first mark).
+    pub fn make_policy_alone(&mut self, from: &str) {
         let kept = |name: &str| {
-            prefixes.iter().any(|p| {
+            POLICY_PARTS.iter().any(|p| {
                 name.strip_prefix(p)
                     .is_some_and(|rest| rest.starts_with('.'))
             })
@@ -292,7 +302,27 @@ impl Checkpoint {
         self.tensors.retain(|name, _| kept(name));
         self.meta
             .networks
-            .retain(|name, _| prefixes.contains(&name.as_str()));
+            .retain(|name, _| POLICY_PARTS.contains(&name.as_str()));
+        let extra = std::mem::take(&mut self.meta.extra);
+        let mut alone: serde_json::Map<String, serde_json::Value> = POLICY_EXTRA
+            .iter()
+            .filter_map(|&key| {
+                let value = extra.get(key).filter(|v| !v.is_null())?;
+                Some((key.to_string(), value.clone()))
+            })
+            .collect();
+        let mark = extra
+            .get(POLICY_ALONE)
+            .cloned()
+            .unwrap_or_else(|| serde_json::json!({ "from": from }));
+        alone.insert(POLICY_ALONE.into(), mark);
+        self.meta.extra = serde_json::Value::Object(alone);
+    }
+
+    /// Whether this is a policy alone ([`Self::make_policy_alone`]): it has no learner
+    /// state to resume.
+    pub fn is_policy_alone(&self) -> bool {
+        !self.meta.extra[POLICY_ALONE].is_null()
     }
 
     pub fn tensor_names(&self) -> impl Iterator<Item = &str> {

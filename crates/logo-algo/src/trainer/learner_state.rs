@@ -253,7 +253,7 @@ fn read_record(
     iterations: Option<usize>,
 ) -> Result<(TrainConfig, Learned), TrainError> {
     let extra = &ckpt.meta.extra;
-    if !extra["exported"].is_null() {
+    if ckpt.is_policy_alone() {
         return Err(TrainError::Resume(
             "is a policy alone (`logo export`), with no learner state to go on from: resume \
              the run's own checkpoint.safetensors (a page that extends a kept run names the \
